@@ -1,0 +1,29 @@
+// The subcommand table (after COLMAP's): each command parses its own options
+// struct with Boost.Program_options, calls the libraries, and writes files.
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace brdfshot {
+
+struct Command {
+  const char* name;
+  const char* summary;
+  std::function<int(int argc, char** argv)> run;
+};
+
+const std::vector<Command>& Commands();
+
+// Parses argv against `desc` (plus --help). Returns false after printing help,
+// throws brdfshot::Error with the parser's message on a bad option.
+bool ParseOptions(const std::string& command, const std::string& usage,
+                  boost::program_options::options_description& desc, int argc, char** argv,
+                  boost::program_options::positional_options_description* positional = nullptr);
+
+int SynthDbMain(int argc, char** argv);
+int NbrdfDbMain(int argc, char** argv);
+
+}  // namespace brdfshot

@@ -1,0 +1,66 @@
+#include "apps/common_options.h"
+
+#include <filesystem>
+#include <sstream>
+
+#include "util/check.h"
+
+namespace brdfshot {
+namespace po = boost::program_options;
+
+void DatabaseArgs::Add(po::options_description& d) {
+  d.add_options()
+      ("db", po::value(&kind)->default_value(kind), "database: auto | merl | nbrdf | standin "
+       "(auto: real MERL files if present, else the neural fits, else the stand-in)")
+      ("data", po::value(&data), "data folder (default: $BRDFSHOT_DATA, then ../shared)")
+      ("merl-dir", po::value(&merl_dir), "folder of MERL .binary files (default: <data>/merl)")
+      ("grid", po::value(&grid)->default_value(grid), "table grid n_th x n_td x n_pd for nbrdf/standin")
+      ("materials", po::value(&materials), "comma-separated material names (default: all)")
+      ("max-materials", po::value(&max_materials)->default_value(0), "keep N materials spread over the list (0: all)");
+}
+
+DatabaseOptions DatabaseArgs::ToOptions(bool progress) const {
+  DatabaseOptions o;
+  o.kind = kind;
+  o.data_root = data;
+  o.merl_dir = merl_dir;
+  o.grid = ParseGrid(grid);
+  o.only = SplitList(materials);
+  o.max_materials = max_materials;
+  o.progress = progress;
+  return o;
+}
+
+MerlGrid ParseGrid(const std::string& text) {
+  MerlGrid g;
+  char x1 = 0, x2 = 0;
+  std::istringstream s(text);
+  if (!(s >> g.n_th >> x1 >> g.n_td >> x2 >> g.n_pd) || x1 != 'x' || x2 != 'x' || g.n_th <= 0 ||
+      g.n_td <= 0 || g.n_pd <= 0 || g.n_th > 1000 || g.n_td > 1000 || g.n_pd > 2000)
+    throw Error("bad --grid '" + text + "': expected e.g. 90x90x180");
+  return g;
+}
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream s(text);
+  std::string item;
+  while (std::getline(s, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+void QualityArgs::Add(po::options_description& d) {
+  d.add_options()
+      ("theta-samples", po::value(&q.theta_samples)->default_value(q.theta_samples), "half-vector samples along sqrt(theta_h)")
+      ("phi-samples", po::value(&q.phi_samples)->default_value(q.phi_samples), "half-vector samples along phi_h")
+      ("probe-width", po::value(&q.probe_width)->default_value(q.probe_width), "resample the probe to this width first (0: as given)");
+}
+
+void MakeOutputDir(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir, ec)) throw FileError(dir, "cannot create output folder");
+}
+
+}  // namespace brdfshot

@@ -1,0 +1,31 @@
+// Options shared by several subcommands: where the database comes from, which
+// grid and materials, which probe and pixel quality.
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <string>
+
+#include "fit/database.h"
+#include "fit/transport.h"
+
+namespace brdfshot {
+
+struct DatabaseArgs {
+  std::string kind = "auto", data, merl_dir, grid = "90x90x180", materials;
+  int max_materials = 0;
+  void Add(boost::program_options::options_description& d);
+  DatabaseOptions ToOptions(bool progress) const;
+};
+
+MerlGrid ParseGrid(const std::string& text);  // "90x90x180"
+std::vector<std::string> SplitList(const std::string& text);  // "a,b,c"
+
+struct QualityArgs {
+  RenderQuality q;
+  void Add(boost::program_options::options_description& d);
+};
+
+// Ensures a folder exists for outputs; Error naming it if it cannot be made.
+void MakeOutputDir(const std::string& dir);
+
+}  // namespace brdfshot

@@ -1,0 +1,69 @@
+// brdfshot: one executable, subcommands registered in a table.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <iostream>
+
+#include "apps/command.h"
+#include "util/check.h"
+
+namespace brdfshot {
+namespace po = boost::program_options;
+
+const std::vector<Command>& Commands() {
+  static const std::vector<Command> kCommands = {
+      {"synth-db", "write the analytic stand-in materials as MERL .binary files", SynthDbMain},
+      {"nbrdf-db", "write MERL's materials from their neural fits as MERL .binary files", NbrdfDbMain},
+  };
+  return kCommands;
+}
+
+bool ParseOptions(const std::string& command, const std::string& usage, po::options_description& desc,
+                  int argc, char** argv, po::positional_options_description* positional) {
+  desc.add_options()("help,h", "show this help");
+  po::variables_map vm;
+  try {
+    po::command_line_parser parser(argc, argv);
+    parser.options(desc);
+    if (positional) parser.positional(*positional);
+    po::store(parser.run(), vm);
+    if (vm.count("help")) {
+      std::cout << "usage: brdfshot " << command << " " << usage << "\n\n" << desc << "\n";
+      return false;
+    }
+    po::notify(vm);
+  } catch (const po::error& e) {
+    throw Error("brdfshot " + command + ": " + e.what() + " (see --help)");
+  }
+  return true;
+}
+
+}  // namespace brdfshot
+
+static void PrintUsage() {
+  std::printf("brdfshot — BRDF from one photo of a sphere under known lighting\n\n"
+              "usage: brdfshot <command> [options]   (brdfshot <command> --help)\n\ncommands:\n");
+  for (const auto& c : brdfshot::Commands()) std::printf("  %-14s %s\n", c.name, c.summary);
+}
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    PrintUsage();
+    return argc < 2 ? 2 : 0;
+  }
+  for (const auto& c : brdfshot::Commands()) {
+    if (std::strcmp(argv[1], c.name) != 0) continue;
+    try {
+      return c.run(argc - 1, argv + 1);
+    } catch (const brdfshot::Error& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "internal error: %s\n", e.what());
+      return 3;
+    }
+  }
+  std::fprintf(stderr, "error: unknown command '%s'\n\n", argv[1]);
+  PrintUsage();
+  return 2;
+}

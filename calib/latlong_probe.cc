@@ -1,0 +1,140 @@
+#include "calib/latlong_probe.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "util/check.h"
+#include "util/image_io.h"
+
+namespace brdfshot {
+
+LatLongProbe::LatLongProbe(cv::Mat rgb, std::string name) : rgb_(std::move(rgb)), name_(std::move(name)) {
+  BRDFSHOT_CHECK(rgb_.type() == CV_32FC3, "probe must be CV_32FC3");
+  BRDFSHOT_CHECK(rgb_.cols == 2 * rgb_.rows && rgb_.rows >= 1, "probe must be 2:1, got "
+                 << rgb_.cols << "x" << rgb_.rows);
+}
+
+LatLongProbe LatLongProbe::Read(const std::string& path) {
+  cv::Mat rgb = ReadHdrImage(path);
+  if (rgb.cols != 2 * rgb.rows)
+    throw FileError(path, "not a lat-long probe: " + std::to_string(rgb.cols) + "x" +
+                              std::to_string(rgb.rows) + " is not 2:1");
+  // Lossy EXR compression (DWA, as in the Poly Haven probes) rings slightly below
+  // zero next to bright sources; radiance cannot be negative, so clamp.
+  cv::max(rgb, 0.0f, rgb);
+  return LatLongProbe(rgb, std::filesystem::path(path).stem().string());
+}
+
+Vec3 LatLongProbe::DirectionAt(double col, double row) const {
+  const double theta = kPi * row / height(), phi = 2 * kPi * col / width();
+  const double s = std::sin(theta);
+  return {-s * std::sin(phi), std::cos(theta), s * std::cos(phi)};
+}
+
+void LatLongProbe::PixelAt(const Vec3& d, double* col, double* row) const {
+  const double theta = std::acos(std::clamp(d.y, -1.0, 1.0));
+  double phi = std::atan2(-d.x, d.z);
+  if (phi < 0) phi += 2 * kPi;
+  *col = phi / (2 * kPi) * width();
+  *row = theta / kPi * height();
+}
+
+double LatLongProbe::TexelSolidAngle(int row) const {
+  const double t0 = kPi * row / height(), t1 = kPi * (row + 1) / height();
+  return 2 * kPi / width() * (std::cos(t0) - std::cos(t1));
+}
+
+LatLongProbe LatLongProbe::Resized(int new_width) const {
+  BRDFSHOT_CHECK(new_width >= 2 && new_width % 2 == 0);
+  if (new_width == width()) return *this;
+  const int new_h = new_width / 2;
+  cv::Mat out(new_h, new_width, CV_32FC3, cv::Scalar::all(0));
+  // Each output texel averages the source texels whose centres fall inside it,
+  // weighted by their solid angle; fine for downsampling, nearest for upsampling.
+  cv::Mat wsum(new_h, new_width, CV_64F, cv::Scalar(0));
+  cv::Mat acc(new_h, new_width, CV_64FC3, cv::Scalar::all(0));
+  for (int r = 0; r < height(); ++r) {
+    const double w = TexelSolidAngle(r);
+    const int rr = std::min(new_h - 1, static_cast<int>((r + 0.5) * new_h / height()));
+    for (int c = 0; c < width(); ++c) {
+      const int cc = std::min(new_width - 1, static_cast<int>((c + 0.5) * new_width / width()));
+      const cv::Vec3f p = Texel(c, r);
+      acc.at<cv::Vec3d>(rr, cc) += cv::Vec3d(p[0], p[1], p[2]) * w;
+      wsum.at<double>(rr, cc) += w;
+    }
+  }
+  for (int r = 0; r < new_h; ++r)
+    for (int c = 0; c < new_width; ++c) {
+      double w = wsum.at<double>(r, c);
+      cv::Vec3d a = acc.at<cv::Vec3d>(r, c);
+      if (w == 0) {  // upsampling: take the nearest source texel
+        const int sr = std::min(height() - 1, static_cast<int>((r + 0.5) * height() / new_h));
+        const int sc = std::min(width() - 1, static_cast<int>((c + 0.5) * width() / new_width));
+        const cv::Vec3f p = Texel(sc, sr);
+        a = cv::Vec3d(p[0], p[1], p[2]);
+        w = 1;
+      }
+      out.at<cv::Vec3f>(r, c) = cv::Vec3f(a[0] / w, a[1] / w, a[2] / w);
+    }
+  return LatLongProbe(out, name_ + "@" + std::to_string(new_width));
+}
+
+uint64_t LatLongProbe::Hash() const {
+  uint64_t h = 1469598103934665603ull;
+  const cv::Mat c = rgb_.isContinuous() ? rgb_ : rgb_.clone();
+  const auto* bytes = c.ptr<unsigned char>();
+  const size_t n = c.total() * c.elemSize();
+  for (size_t i = 0; i < n; ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+  return h;
+}
+
+PrefilteredProbe::PrefilteredProbe(const LatLongProbe& probe) {
+  levels_.push_back(probe.rgb());
+  texel0_omega_ = 4 * kPi / (static_cast<double>(probe.width()) * probe.height());
+  // Halve until the map is 2x1; rows are averaged with their solid-angle weights.
+  while (levels_.back().rows > 1) {
+    const cv::Mat& src = levels_.back();
+    const int h = src.rows / 2, w = src.cols / 2;
+    cv::Mat dst(h, w, CV_32FC3);
+    for (int r = 0; r < h; ++r) {
+      const double t0 = kPi * (2 * r) / src.rows, t1 = kPi * (2 * r + 1) / src.rows,
+                   t2 = kPi * (2 * r + 2) / src.rows;
+      const double w0 = std::cos(t0) - std::cos(t1), w1 = std::cos(t1) - std::cos(t2);
+      for (int c = 0; c < w; ++c) {
+        const cv::Vec3f a = src.at<cv::Vec3f>(2 * r, 2 * c) + src.at<cv::Vec3f>(2 * r, 2 * c + 1);
+        const cv::Vec3f b =
+            src.at<cv::Vec3f>(2 * r + 1, 2 * c) + src.at<cv::Vec3f>(2 * r + 1, 2 * c + 1);
+        dst.at<cv::Vec3f>(r, c) = (a * w0 + b * w1) / (2 * (w0 + w1));
+      }
+    }
+    levels_.push_back(dst);
+  }
+}
+
+cv::Vec3f PrefilteredProbe::LookupLevel(const Vec3& d, int level) const {
+  const cv::Mat& m = levels_[level];
+  const double theta = std::acos(std::clamp(d.y, -1.0, 1.0));
+  double phi = std::atan2(-d.x, d.z);
+  if (phi < 0) phi += 2 * kPi;
+  const double x = phi / (2 * kPi) * m.cols - 0.5, y = theta / kPi * m.rows - 0.5;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const int xa = (x0 % m.cols + m.cols) % m.cols, xb = (xa + 1) % m.cols;
+  const int ya = std::clamp(y0, 0, m.rows - 1), yb = std::clamp(y0 + 1, 0, m.rows - 1);
+  const cv::Vec3f* ra = m.ptr<cv::Vec3f>(ya);
+  const cv::Vec3f* rb = m.ptr<cv::Vec3f>(yb);
+  return (ra[xa] * (1 - fx) + ra[xb] * fx) * (1 - fy) + (rb[xa] * (1 - fx) + rb[xb] * fx) * fy;
+}
+
+cv::Vec3f PrefilteredProbe::Lookup(const Vec3& d, double omega) const {
+  const double lod = 0.5 * std::log2(std::max(omega, 1e-30) / texel0_omega_);
+  if (lod <= 0) return LookupLevel(d, 0);
+  const int top = levels() - 1;
+  if (lod >= top) return LookupLevel(d, top);
+  const int l0 = static_cast<int>(lod);
+  const float t = static_cast<float>(lod - l0);
+  return LookupLevel(d, l0) * (1 - t) + LookupLevel(d, l0 + 1) * t;
+}
+
+}  // namespace brdfshot

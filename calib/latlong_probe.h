@@ -1,0 +1,64 @@
+// A distant-light environment in latitude-longitude layout, the probe frame of the
+// whole pipeline. Convention (documented in README "Frames"): +Y is up; row 0 is
+// the zenith; the map's horizontal centre looks along −Z; +X is to the right of
+// that centre. A camera at +Z looking down −Z sees the middle of the map behind
+// the object.
+//
+//   θ = π (row + ½)/H,  φ = 2π (col + ½)/W,  d = (−sinθ sinφ, cosθ, sinθ cosφ).
+#pragma once
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "util/vec3.h"
+
+namespace brdfshot {
+
+class LatLongProbe {
+ public:
+  LatLongProbe() = default;
+  // `rgb` is CV_32FC3 RGB radiance, width == 2 × height.
+  explicit LatLongProbe(cv::Mat rgb, std::string name = "");
+
+  // Reads .exr/.hdr/.pfm lat-long maps; Error naming the file if the aspect is not 2:1.
+  static LatLongProbe Read(const std::string& path);
+
+  int width() const { return rgb_.cols; }
+  int height() const { return rgb_.rows; }
+  const cv::Mat& rgb() const { return rgb_; }
+  const std::string& name() const { return name_; }
+
+  Vec3 DirectionAt(double col, double row) const;          // continuous pixel coords
+  void PixelAt(const Vec3& dir, double* col, double* row) const;
+  double TexelSolidAngle(int row) const;                    // sr
+  cv::Vec3f Texel(int col, int row) const { return rgb_.at<cv::Vec3f>(row, col); }
+
+  // Box-resampled to `width`×`width/2` with solid-angle weights (area-preserving
+  // in radiant power), for probes finer than the scene needs.
+  LatLongProbe Resized(int width) const;
+  // Content hash (FNV-1a over the floats), used to key basis-image caches.
+  uint64_t Hash() const;
+
+ private:
+  cv::Mat rgb_;
+  std::string name_;
+};
+
+// Radiance at a direction averaged over a cone of solid angle `omega`, from a
+// mip pyramid built with solid-angle weights: trilinear between the two levels
+// whose texels bracket `omega`. This is what lets the basis-image quadrature use
+// few samples on a mirror-like BRDF without aliasing the probe.
+class PrefilteredProbe {
+ public:
+  explicit PrefilteredProbe(const LatLongProbe& probe);
+  cv::Vec3f Lookup(const Vec3& dir, double omega) const;
+  cv::Vec3f LookupLevel(const Vec3& dir, int level) const;  // bilinear in one level
+  int levels() const { return static_cast<int>(levels_.size()); }
+
+ private:
+  std::vector<cv::Mat> levels_;  // CV_32FC3, level 0 is the probe
+  double texel0_omega_;          // mean texel solid angle at level 0
+};
+
+}  // namespace brdfshot

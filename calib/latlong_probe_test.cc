@@ -1,0 +1,100 @@
+#include "calib/latlong_probe.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "util/check.h"
+#include "util/data_paths.h"
+
+namespace brdfshot {
+
+TEST(LatLongProbe, SolidAnglesSumToFourPi) {
+  LatLongProbe p(cv::Mat(64, 128, CV_32FC3, cv::Scalar::all(1)));
+  double sum = 0;
+  for (int r = 0; r < p.height(); ++r) sum += p.width() * p.TexelSolidAngle(r);
+  EXPECT_NEAR(sum, 4 * kPi, 1e-12);
+}
+
+TEST(LatLongProbe, DirectionPixelRoundTripAndConvention) {
+  LatLongProbe p(cv::Mat(64, 128, CV_32FC3, cv::Scalar::all(1)));
+  // Map centre looks down -Z, top row is +Y, three quarters across is +X.
+  EXPECT_NEAR(p.DirectionAt(64, 32).z, -1, 1e-12);
+  EXPECT_NEAR(p.DirectionAt(96, 32).x, 1, 1e-12);
+  EXPECT_NEAR(p.DirectionAt(10, 0).y, 1, 1e-12);
+  for (double c : {0.3, 17.5, 100.25})
+    for (double r : {0.7, 31.0, 60.5}) {
+      double c2, r2;
+      p.PixelAt(p.DirectionAt(c, r), &c2, &r2);
+      EXPECT_NEAR(c, c2, 1e-9);
+      EXPECT_NEAR(r, r2, 1e-9);
+    }
+}
+
+TEST(PrefilteredProbe, CoarsestLevelIsTheSolidAngleWeightedMean) {
+  cv::Mat img(32, 64, CV_32FC3);
+  cv::randu(img, 0, 10);
+  LatLongProbe p(img);
+  double mean[3] = {0, 0, 0};
+  for (int r = 0; r < p.height(); ++r)
+    for (int c = 0; c < p.width(); ++c)
+      for (int k = 0; k < 3; ++k) mean[k] += p.Texel(c, r)[k] * p.TexelSolidAngle(r) / (4 * kPi);
+  PrefilteredProbe f(p);
+  const cv::Vec3f top = f.LookupLevel(Vec3(0, 0, 1), f.levels() - 1);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(top[k], mean[k], 1e-4 * mean[k]);
+  // Level 0 at a texel centre returns that texel exactly.
+  const cv::Vec3f t = f.LookupLevel(p.DirectionAt(5.5, 7.5), 0);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(t[k], p.Texel(5, 7)[k], 1e-5);
+}
+
+TEST(LatLongProbe, ResizePreservesRadiantPower) {
+  cv::Mat img(64, 128, CV_32FC3);
+  cv::randu(img, 0, 5);
+  LatLongProbe p(img);
+  auto power = [](const LatLongProbe& q) {
+    double s = 0;
+    for (int r = 0; r < q.height(); ++r)
+      for (int c = 0; c < q.width(); ++c) s += q.Texel(c, r)[1] * q.TexelSolidAngle(r);
+    return s;
+  };
+  EXPECT_NEAR(power(p.Resized(32)), power(p), 2e-3 * power(p));
+}
+
+class RealProbeTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RealProbeTest, ReadsAndIsAPlausibleHdrProbe) {
+  const std::string path = DataPath(GetParam());
+  if (path.empty() || !std::filesystem::exists(path)) GTEST_SKIP() << "no data: " << GetParam();
+  const LatLongProbe p = LatLongProbe::Read(path);
+  EXPECT_EQ(p.width(), 2 * p.height());
+  EXPECT_GE(p.width(), 1024);
+  double lo, hi;
+  cv::minMaxLoc(p.rgb().reshape(1), &lo, &hi);
+  EXPECT_GE(lo, 0);
+  EXPECT_GT(hi, 1.0) << "an HDR probe should exceed 1 somewhere";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    SharedProbes, RealProbeTest,
+    ::testing::Values("envmaps/city.exr", "envmaps/courtyard.exr", "envmaps/forest.exr",
+                      "envmaps/interior.exr", "envmaps/night.exr", "envmaps/studio.exr",
+                      "envmaps/sunrise.exr", "envmaps/sunset.exr",
+                      "real/probes_polyhaven_cc0/studio_small_09_1k.hdr"));
+
+TEST(LatLongProbe, BadFilesGiveNamedErrors) {
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  const std::string bad = dir + "/brdfshot_bad_probe.exr";
+  { std::ofstream(bad) << "not an exr"; }
+  try {
+    LatLongProbe::Read(bad);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(bad);
+  EXPECT_THROW(LatLongProbe::Read(dir + "/brdfshot_missing.hdr"), Error);
+  EXPECT_THROW(LatLongProbe::Read(dir + "/x.jpg"), Error);
+}
+
+}  // namespace brdfshot

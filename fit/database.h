@@ -1,0 +1,63 @@
+// The basis database in one place: real MERL files if the data folder has them,
+// else MERL's materials as neural fits, else the analytic stand-in. Every output
+// carries `label` so no result on an approximation is mistaken for MERL's.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "fit/merl_brdf.h"
+#include "fit/nbrdf.h"
+
+namespace brdfshot {
+
+struct DatabaseOptions {
+  std::string kind = "auto";   // auto | merl | nbrdf | standin
+  std::string data_root;       // "" = $BRDFSHOT_DATA, then ../shared
+  std::string merl_dir;        // overrides <root>/merl
+  MerlGrid grid = MerlGrid::Full();  // for nbrdf / standin (MERL files carry their own)
+  std::vector<std::string> only;     // material names to keep (empty = all)
+  int max_materials = 0;             // >0: that many, evenly spread over the list
+  bool progress = false;
+};
+
+struct BasisDatabase {
+  std::string kind;   // merl | nbrdf | standin
+  std::string label;  // "MERL" | "MERL (NBRDF approximation)" | "stand-in (analytic)"
+  MerlGrid grid;
+  std::vector<std::string> materials;
+  std::vector<std::string> families;  // stand-in only (diffuse/plastic/metal/paint)
+  // bins × 3·materials; column 3m + c is channel c of material m, ρ in 1/sr,
+  // 0 where not measured (so it contributes nothing to a render).
+  MatrixXfR B;
+
+  int num_bases() const { return static_cast<int>(B.cols()); }
+  int num_materials() const { return static_cast<int>(materials.size()); }
+  std::string BasisName(int col) const;
+};
+
+// Resolves which database `opt.kind` means on this machine (auto → first found),
+// returning the kind and the folder; Error saying where to get data if none.
+std::string ResolveDatabaseKind(const DatabaseOptions& opt, std::string* folder);
+
+BasisDatabase LoadDatabase(const DatabaseOptions& opt);
+
+// Material names listed in a merl-nbrdf materials.txt.
+std::vector<std::string> ReadLines(const std::string& path);
+
+// Indices of `names` that `opt.only` / `opt.max_materials` keep, in order.
+std::vector<int> SelectMaterials(const std::vector<std::string>& names, const DatabaseOptions& opt);
+
+// BᵀB (or Bᵀ diag(w²) B) in double, accumulated over float row blocks so the
+// 1.46M-row matrix is streamed once.
+Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* row_weight = nullptr);
+
+// cos θ_i cos θ_o per bin (0 where not measurable): the weight of the BRDF metric.
+std::vector<float> CosineWeights(const MerlGrid& grid);
+
+// A BRDF from per-channel weights over the bases: ρ_c = B w_c (MERL file layout;
+// unmeasurable bins −1). `weights` is n × 3.
+MerlBrdf CombineBases(const BasisDatabase& db, const Eigen::MatrixXd& weights);
+
+}  // namespace brdfshot

@@ -1,0 +1,96 @@
+#include "fit/merl_brdf.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "util/atomic_file.h"
+#include "util/check.h"
+
+namespace brdfshot {
+
+MerlBrdf::MerlBrdf(const MerlGrid& grid) : grid_(grid), raw_(3 * grid.size(), -1.0) {}
+
+MerlBrdf MerlBrdf::Read(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw FileError(path, "is a folder, expected a MERL .binary file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError(path, "cannot open MERL file (missing or unreadable)");
+  const auto file_size = std::filesystem::file_size(path, ec);
+  int32_t dims[3];
+  if (ec || file_size < sizeof dims || !in.read(reinterpret_cast<char*>(dims), sizeof dims))
+    throw FileError(path, "too short for a MERL header (12 bytes)");
+  for (int d : dims)
+    if (d <= 0 || d > 4096)
+      throw FileError(path, "bad MERL header (" + std::to_string(dims[0]) + ", " +
+                                std::to_string(dims[1]) + ", " + std::to_string(dims[2]) +
+                                "): expected (90, 90, 180) or a reduced positive grid");
+  MerlBrdf brdf(MerlGrid{dims[0], dims[1], dims[2]});
+  const uint64_t expected = sizeof dims + 3ull * brdf.grid_.size() * sizeof(double);
+  if (file_size != expected)
+    throw FileError(path, "size " + std::to_string(file_size) + " bytes does not match header (" +
+                              std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+                              std::to_string(dims[2]) + " needs " + std::to_string(expected) +
+                              "): truncated or not a MERL file");
+  in.read(reinterpret_cast<char*>(brdf.raw_.data()), brdf.raw_.size() * sizeof(double));
+  if (!in) throw FileError(path, "read failed");
+  size_t bad = 0;
+  for (double v : brdf.raw_) bad += !std::isfinite(v);
+  if (bad) throw FileError(path, std::to_string(bad) + " entries are NaN or Inf");
+  return brdf;
+}
+
+void MerlBrdf::Write(const std::string& path) const {
+  BRDFSHOT_CHECK(raw_.size() == 3 * grid_.size());
+  WriteFileAtomic(path, [&](std::ostream& out) {
+    const int32_t dims[3] = {grid_.n_th, grid_.n_td, grid_.n_pd};
+    out.write(reinterpret_cast<const char*>(dims), sizeof dims);
+    out.write(reinterpret_cast<const char*>(raw_.data()), raw_.size() * sizeof(double));
+  });
+}
+
+Rgb MerlBrdf::Eval(const Vec3& wi, const Vec3& wo) const {
+  if (wi.z <= 0 || wo.z <= 0) return {};
+  return EvalHalfDiff(ToHalfDiff(wi, wo));
+}
+
+Rgb MerlBrdf::EvalHalfDiff(const HalfDiff& hd) const {
+  double uh, ud, up;
+  grid_.Continuous(hd, &uh, &ud, &up);
+  const int i0 = std::clamp(static_cast<int>(std::floor(uh)), 0, grid_.n_th - 1);
+  const int j0 = std::clamp(static_cast<int>(std::floor(ud)), 0, grid_.n_td - 1);
+  const int k0 = static_cast<int>(std::floor(up)) % grid_.n_pd;
+  const double fh = std::clamp(uh - i0, 0.0, 1.0), fd = std::clamp(ud - j0, 0.0, 1.0),
+               fp = up - std::floor(up);
+  const int i1 = std::min(i0 + 1, grid_.n_th - 1), j1 = std::min(j0 + 1, grid_.n_td - 1);
+  const int k1 = (k0 + 1) % grid_.n_pd;
+  double acc[3] = {0, 0, 0}, wsum[3] = {0, 0, 0};
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int e = 0; e < 2; ++e) {
+        const double w = (a ? fh : 1 - fh) * (b ? fd : 1 - fd) * (e ? fp : 1 - fp);
+        if (w == 0) continue;
+        const size_t idx = grid_.Index(a ? i1 : i0, b ? j1 : j0, e ? k1 : k0);
+        for (int c = 0; c < 3; ++c) {
+          const double v = Value(c, idx);
+          if (v < 0) continue;
+          acc[c] += w * v;
+          wsum[c] += w;
+        }
+      }
+  Rgb out;
+  out.r = wsum[0] > 0 ? acc[0] / wsum[0] : 0;
+  out.g = wsum[1] > 0 ? acc[1] / wsum[1] : 0;
+  out.b = wsum[2] > 0 ? acc[2] / wsum[2] : 0;
+  return out;
+}
+
+double MerlBrdf::UnmeasuredFraction() const {
+  size_t neg = 0;
+  for (double v : raw_) neg += v < 0;
+  return static_cast<double>(neg) / raw_.size();
+}
+
+}  // namespace brdfshot

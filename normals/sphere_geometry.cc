@@ -1,0 +1,62 @@
+#include "normals/sphere_geometry.h"
+
+#include <cmath>
+
+#include "util/check.h"
+
+namespace brdfshot {
+
+uint64_t PixelGeometry::Hash() const {
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const void* p, size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  mix(&width, sizeof width);
+  mix(&height, sizeof height);
+  for (size_t i = 0; i < size(); ++i) {
+    mix(&x[i], sizeof(int));
+    mix(&y[i], sizeof(int));
+    mix(&normal[i], sizeof(Vec3));
+    mix(&view[i], sizeof(Vec3));
+  }
+  return h;
+}
+
+PixelGeometry OrthographicSphere(int resolution, double max_angle_deg) {
+  BRDFSHOT_CHECK(resolution > 0);
+  PixelGeometry g;
+  g.width = g.height = resolution;
+  const double cos_max = std::cos(max_angle_deg * kPi / 180.0);
+  for (int py = 0; py < resolution; ++py)
+    for (int px = 0; px < resolution; ++px) {
+      const double sx = 2.0 * (px + 0.5) / resolution - 1.0;
+      const double sy = 1.0 - 2.0 * (py + 0.5) / resolution;
+      const double r2 = sx * sx + sy * sy;
+      if (r2 >= 1.0) continue;
+      const Vec3 n(sx, sy, std::sqrt(1.0 - r2));
+      if (n.z < cos_max) continue;
+      g.x.push_back(px);
+      g.y.push_back(py);
+      g.normal.push_back(n);
+      g.view.push_back(Vec3(0, 0, 1));
+    }
+  return g;
+}
+
+PixelGeometry Subsample(const PixelGeometry& g, int step) {
+  BRDFSHOT_CHECK(step >= 1);
+  PixelGeometry s;
+  s.width = g.width;
+  s.height = g.height;
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (g.x[i] % step || g.y[i] % step) continue;
+    s.x.push_back(g.x[i]);
+    s.y.push_back(g.y[i]);
+    s.normal.push_back(g.normal[i]);
+    s.view.push_back(g.view[i]);
+  }
+  return s;
+}
+
+}  // namespace brdfshot

@@ -1,0 +1,90 @@
+#include "util/atomic_file.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "util/check.h"
+
+namespace brdfshot {
+namespace fs = std::filesystem;
+
+namespace {
+std::string TempPathFor(const std::string& path) {
+  const fs::path p(path);
+  return (p.parent_path() / (p.stem().string() + ".tmp" + std::to_string(::getpid()) +
+                             p.extension().string()))
+      .string();
+}
+
+void CheckOutputPath(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw FileError(path, "is a folder, expected an output file");
+  const fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent, ec))
+    throw FileError(path, "output folder '" + parent.string() + "' does not exist");
+}
+
+void Commit(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw FileError(path, "cannot move the finished output into place: " + ec.message());
+  }
+}
+}  // namespace
+
+void WriteFileAtomic(const std::string& path,
+                     const std::function<void(std::ostream&)>& write) {
+  CheckOutputPath(path);
+  const std::string tmp = TempPathFor(path);
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw FileError(path, "cannot create output (is the folder writable?)");
+    try {
+      write(out);
+      out.flush();
+    } catch (...) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw;
+    }
+    if (!out) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw FileError(path, "write failed (disk full?)");
+    }
+  }
+  Commit(tmp, path);
+}
+
+void WriteFileAtomicByName(const std::string& path,
+                           const std::function<void(const std::string&)>& write) {
+  CheckOutputPath(path);
+  const std::string tmp = TempPathFor(path);
+  try {
+    write(tmp);
+  } catch (const std::exception& e) {
+    std::remove(tmp.c_str());
+    throw FileError(path, std::string("write failed: ") + e.what());
+  }
+  std::error_code ec;
+  if (!fs::exists(tmp, ec)) throw FileError(path, "writer produced no file");
+  Commit(tmp, path);
+}
+
+std::string ReadFileBytes(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw FileError(path, "is a folder, expected a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError(path, "cannot open for reading (missing or unreadable)");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace brdfshot

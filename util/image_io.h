@@ -1,0 +1,28 @@
+// Image files in and out. In memory every image is a cv::Mat of CV_32FC3 in RGB
+// order (not OpenCV's BGR): the radiometric code never has to remember which
+// reader produced a picture.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+
+namespace brdfshot {
+
+// Linear HDR image from .exr (OpenEXR, any compression incl. DWA), .hdr (Radiance)
+// or .pfm. Error naming the file on unreadable data, unknown extension, or any
+// NaN/Inf pixel (a probe with NaN would silently poison every basis image).
+cv::Mat ReadHdrImage(const std::string& path);
+
+// Float RGB EXR (ZIP compressed), written atomically.
+void WriteExr(const std::string& path, const cv::Mat& rgb);
+
+// 8-bit sRGB-ish PNG for people: scale by `exposure`, gamma 1/2.2, clip.
+void WritePngTonemapped(const std::string& path, const cv::Mat& rgb, double exposure = 1.0);
+
+// Any 8-bit BGR picture (plots, overlays), written atomically.
+void WritePng(const std::string& path, const cv::Mat& bgr8);
+
+// Exposure that maps the 99th percentile of luminance to 0.9 (for previews).
+double AutoExposure(const cv::Mat& rgb, const cv::Mat& mask = cv::Mat());
+
+}  // namespace brdfshot
