@@ -1,1 +1,110 @@
+#include "fit/transport.h"
+
 #include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "fit/database.h"
+#include "fit/standin.h"
+#include "util/data_paths.h"
+
+namespace brdfshot {
+
+namespace {
+MerlBrdf Lambert(const MerlGrid& grid, double albedo) {
+  MerlBrdf m(grid);
+  for (size_t idx = 0; idx < grid.size(); ++idx)
+    if (grid.Measurable(idx))
+      for (int c = 0; c < 3; ++c) m.set_raw(c, idx, albedo / kPi / kMerlScale[c]);
+  return m;
+}
+LatLongProbe Constant(int w, float v) { return LatLongProbe(cv::Mat(w / 2, w, CV_32FC3, cv::Scalar::all(v))); }
+}  // namespace
+
+TEST(Transport, LambertianUnderAConstantProbeIsAlbedoTimesRadiance) {
+  const MerlGrid grid{45, 45, 90};
+  const PixelGeometry g = OrthographicSphere(32, 75);
+  const TransportOperator t = TransportOperator::Build(g, Constant(64, 2.0f), grid, RenderQuality{});
+  const Eigen::MatrixXd y = t.Render(Lambert(grid, 0.6));
+  for (Eigen::Index p = 0; p < y.rows(); ++p)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(y(p, c), 0.6 * 2.0, 0.01 * 1.2) << "pixel " << p;
+}
+
+TEST(Transport, SingleBrightTexelFollowsTheCosineLaw) {
+  cv::Mat img(32, 64, CV_32FC3, cv::Scalar::all(0));
+  const int tc = 40, tr = 12;
+  img.at<cv::Vec3f>(tr, tc) = cv::Vec3f(1000, 1000, 1000);
+  const LatLongProbe probe(img);
+  const Vec3 d = probe.DirectionAt(tc + 0.5, tr + 0.5);
+  const double energy = 1000 * probe.TexelSolidAngle(tr);
+  const MerlGrid grid{45, 45, 90};
+  const PixelGeometry g = OrthographicSphere(48, 75);
+  RenderQuality q;
+  q.theta_samples = 32;
+  q.phi_samples = 64;
+  const Eigen::MatrixXd y = TransportOperator::Build(g, probe, grid, q).Render(Lambert(grid, 1.0));
+  int checked = 0;
+  for (size_t p = 0; p < g.size(); ++p) {
+    const double cos_i = Dot(g.normal[p], d);
+    // Near the terminator the prefilter footprint straddles the horizon and the
+    // blurred texel loses part of its energy below it: the law is checked where
+    // the light is at least 30° above the pixel's horizon.
+    if (cos_i < 0.5) continue;
+    const double want = energy * cos_i / kPi;
+    EXPECT_NEAR(y(p, 1), want, 0.05 * want) << "cos=" << cos_i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(Transport, NearMirrorMetalReflectsTheProbe) {
+  // A smooth probe so the comparison does not depend on the lobe's exact width.
+  cv::Mat img(128, 256, CV_32FC3);
+  LatLongProbe tmp(img.clone());
+  for (int r = 0; r < 128; ++r)
+    for (int c = 0; c < 256; ++c) {
+      const Vec3 d = tmp.DirectionAt(c + 0.5, r + 0.5);
+      img.at<cv::Vec3f>(r, c) = cv::Vec3f(1 + 0.5 * d.x, 1 + 0.4 * d.y, 1 - 0.3 * d.z);
+    }
+  const LatLongProbe probe(img);
+  StandinMaterial metal;
+  metal.family = "metal";
+  metal.ks1 = 1.0;
+  metal.alpha1 = 0.01;
+  metal.f0[0] = metal.f0[1] = metal.f0[2] = 0.95;
+  const MerlGrid grid = MerlGrid::Full();
+  const PixelGeometry g = OrthographicSphere(32, 50);
+  const Eigen::MatrixXd y = TransportOperator::Build(g, probe, grid, RenderQuality{}).Render(metal.ToMerl(grid));
+  const PrefilteredProbe lookup(probe);
+  for (size_t p = 0; p < g.size(); ++p) {
+    const Vec3 r = Reflect(g.view[p], g.normal[p]);
+    const double f = FresnelSchlick(0.95, Dot(g.view[p], g.normal[p]));
+    const cv::Vec3f L = lookup.LookupLevel(r, 0);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(y(p, c), f * L[c], 0.04 * f * L[c]) << "pixel " << p;
+  }
+}
+
+TEST(Transport, RenderingAWeightVectorEqualsYTimesW) {
+  const std::string tsv = DataPath("standin/materials.tsv");
+  if (tsv.empty() || !std::filesystem::exists(tsv)) GTEST_SKIP() << "no stand-in";
+  DatabaseOptions opt;
+  opt.kind = "standin";
+  opt.grid = MerlGrid{30, 30, 60};
+  opt.max_materials = 6;
+  const BasisDatabase db = LoadDatabase(opt);
+  cv::Mat img(32, 64, CV_32FC3);
+  cv::randu(img, 0, 4);
+  const PixelGeometry g = OrthographicSphere(24, 80);
+  const TransportOperator t = TransportOperator::Build(g, LatLongProbe(img), db.grid, RenderQuality{});
+  const auto Y = t.Apply(db.B);
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(db.num_bases(), 3);
+  for (int i = 0; i < db.num_bases(); ++i)
+    for (int c = 0; c < 3; ++c) w(i, c) = 0.05 * ((i * 7 + c * 3) % 5);
+  const Eigen::MatrixXd direct = t.Render(CombineBases(db, w));
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::VectorXd via_y = Y[c].cast<double>() * w.col(c);
+    EXPECT_LT((via_y - direct.col(c)).norm(), 1e-5 * direct.col(c).norm()) << "channel " << c;
+  }
+}
+
+}  // namespace brdfshot
