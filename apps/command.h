@@ -25,5 +25,7 @@ bool ParseOptions(const std::string& command, const std::string& usage,
 
 int SynthDbMain(int argc, char** argv);
 int NbrdfDbMain(int argc, char** argv);
+int ClusterMain(int argc, char** argv);
+int EvalMain(int argc, char** argv);
 
 }  // namespace brdfshot

@@ -14,6 +14,8 @@ const std::vector<Command>& Commands() {
   static const std::vector<Command> kCommands = {
       {"synth-db", "write the analytic stand-in materials as MERL .binary files", SynthDbMain},
       {"nbrdf-db", "write MERL's materials from their neural fits as MERL .binary files", NbrdfDbMain},
+      {"cluster", "class model of the database: SVD + GMM, MDS picture (paper sec. 3)", ClusterMain},
+      {"eval", "leave-one-out evaluation against least squares, the paper and the oracle", EvalMain},
   };
   return kCommands;
 }

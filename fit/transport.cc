@@ -9,7 +9,38 @@ namespace brdfshot {
 
 std::string RenderQuality::Describe() const {
   return "theta=" + std::to_string(theta_samples) + ",phi=" + std::to_string(phi_samples) +
-         ",probe=" + std::to_string(probe_width);
+         ",probe=" + std::to_string(probe_width) + ",lights=" + std::to_string(max_lights);
+}
+
+std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share) {
+  std::vector<DirectionalLight> lights;
+  if (max_lights <= 0) return lights;
+  struct Texel {
+    double power;
+    int c, r;
+  };
+  std::vector<Texel> texels;
+  double total = 0;
+  for (int r = 0; r < probe->height(); ++r)
+    for (int c = 0; c < probe->width(); ++c) {
+      const cv::Vec3f v = probe->Texel(c, r);
+      const double p = (v[0] + v[1] + v[2]) * probe->TexelSolidAngle(r);
+      total += p;
+      texels.push_back({p, c, r});
+    }
+  if (total <= 0) return lights;
+  const size_t k = std::min<size_t>(max_lights, texels.size());
+  std::partial_sort(texels.begin(), texels.begin() + k, texels.end(),
+                    [](const Texel& a, const Texel& b) { return a.power > b.power; });
+  cv::Mat rgb = probe->rgb().clone();
+  for (size_t i = 0; i < k && texels[i].power >= min_share * total; ++i) {
+    const Texel& t = texels[i];
+    const double omega = probe->TexelSolidAngle(t.r);
+    lights.push_back({probe->DirectionAt(t.c + 0.5, t.r + 0.5), probe->Texel(t.c, t.r) * omega});
+    rgb.at<cv::Vec3f>(t.r, t.c) = cv::Vec3f(0, 0, 0);
+  }
+  *probe = LatLongProbe(rgb, probe->name());
+  return lights;
 }
 
 namespace {
@@ -50,8 +81,9 @@ TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLong
                                            const MerlGrid& grid, const RenderQuality& q) {
   BRDFSHOT_CHECK(q.theta_samples > 0 && q.phi_samples > 0);
   BRDFSHOT_CHECK(grid.size() < (1ull << 32));
-  const LatLongProbe probe =
+  LatLongProbe probe =
       q.probe_width > 0 && q.probe_width < probe_in.width() ? probe_in.Resized(q.probe_width) : probe_in;
+  const std::vector<DirectionalLight> lights = ExtractLights(&probe, q.max_lights, q.light_share);
   const PrefilteredProbe lookup(probe);
   const std::vector<HalfSample> samples = HalfVectorGrid(q.theta_samples, q.phi_samples);
 
@@ -84,6 +116,13 @@ TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLong
           buf.push_back({static_cast<uint32_t>(grid.NearestIndex(hd)),
                          {static_cast<float>(w * L[0]), static_cast<float>(w * L[1]),
                           static_cast<float>(w * L[2])}});
+        }
+        for (const DirectionalLight& l : lights) {
+          const Vec3 wi = f.ToLocal(l.direction);
+          if (wi.z <= 0) continue;
+          buf.push_back({static_cast<uint32_t>(grid.NearestIndex(ToHalfDiff(wi, wo))),
+                         {static_cast<float>(wi.z * l.power[0]), static_cast<float>(wi.z * l.power[1]),
+                          static_cast<float>(wi.z * l.power[2])}});
         }
         // Merge samples that land in the same entry: fewer nonzeros, same sum.
         std::sort(buf.begin(), buf.end(), [](const Entry& a, const Entry& b) { return a.bin < b.bin; });

@@ -12,6 +12,11 @@
 // direction sees a sharp probe and a grazing sample a blurred one: no aliasing
 // with a few hundred samples. The BRDF is read at the nearest MERL entry
 // (duplicates merged per pixel), which keeps T as sparse as the samples.
+//
+// A sun is the one thing a fixed grid cannot integrate: a texel holding a large
+// share of the probe's power lands between samples. Such texels are taken out of
+// the probe and added as directional lights, exact per pixel, before the smooth
+// remainder goes through the quadrature.
 #pragma once
 
 #include <array>
@@ -30,8 +35,17 @@ struct RenderQuality {
   int theta_samples = 24;  // along √θ_h
   int phi_samples = 48;    // along φ_h
   int probe_width = 512;   // probe box-resampled to this width first (0 = as given)
+  int max_lights = 64;     // texels split off as directional lights (0 = none)
+  double light_share = 0.002;  // ...if each holds at least this share of the power
   std::string Describe() const;
 };
+
+// Texels split off a probe as directional lights; the probe keeps the remainder.
+struct DirectionalLight {
+  Vec3 direction;
+  cv::Vec3f power;  // radiance × solid angle (W/m² per channel)
+};
+std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share);
 
 class TransportOperator {
  public:

@@ -8,7 +8,12 @@ namespace brdfshot {
 template <typename BrdfFn>
 Eigen::MatrixXd RenderReference(const PixelGeometry& g, const LatLongProbe& probe, BrdfFn brdf,
                                 int nt, int np) {
-  const PrefilteredProbe lookup(probe);
+  // Suns are split off exactly as in TransportOperator (a dense grid converges on
+  // them far too slowly); the remainder is integrated densely and unfiltered.
+  LatLongProbe rest = probe;
+  const std::vector<DirectionalLight> lights = ExtractLights(&rest, RenderQuality{}.max_lights,
+                                                             RenderQuality{}.light_share);
+  const PrefilteredProbe lookup(rest);
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(g.size(), 3);
 #pragma omp parallel for schedule(dynamic, 4)
   for (long p = 0; p < static_cast<long>(g.size()); ++p) {
@@ -31,6 +36,12 @@ Eigen::MatrixXd RenderReference(const PixelGeometry& g, const LatLongProbe& prob
         const double w = wi.z * 4 * cd * dwh_t;
         for (int c = 0; c < 3; ++c) acc[c] += w * r[c] * L[c];
       }
+    }
+    for (const DirectionalLight& l : lights) {
+      const Vec3 wi = f.ToLocal(l.direction);
+      if (wi.z <= 0) continue;
+      const auto r = brdf(wi, wo);
+      for (int c = 0; c < 3; ++c) acc[c] += wi.z * r[c] * l.power[c];
     }
     for (int c = 0; c < 3; ++c) out(p, c) = acc[c];
   }

@@ -32,7 +32,7 @@ TEST(Transport, LambertianUnderAConstantProbeIsAlbedoTimesRadiance) {
 
 TEST(Transport, SingleBrightTexelFollowsTheCosineLaw) {
   cv::Mat img(32, 64, CV_32FC3, cv::Scalar::all(0));
-  const int tc = 40, tr = 12;
+  const int tc = 4, tr = 12;  // in front of the camera, upper left
   img.at<cv::Vec3f>(tr, tc) = cv::Vec3f(1000, 1000, 1000);
   const LatLongProbe probe(img);
   const Vec3 d = probe.DirectionAt(tc + 0.5, tr + 0.5);

@@ -1,0 +1,101 @@
+#include "fit/basis_images.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "util/atomic_file.h"
+#include "util/check.h"
+
+namespace brdfshot {
+
+namespace {
+constexpr char kMagic[8] = {'B', 'S', 'H', 'O', 'T', 'B', 'I', '1'};
+}
+
+std::vector<std::string> BasisImages::BasisNames() const {
+  return header.at("bases").get<std::vector<std::string>>();
+}
+
+void BasisImages::Write(const std::string& path) const {
+  const size_t P = geometry.size(), n = Y[0].cols();
+  BRDFSHOT_CHECK(static_cast<size_t>(Y[0].rows()) == P);
+  nlohmann::json h = header;
+  h["pixels"] = P;
+  h["num_bases"] = n;
+  h["width"] = geometry.width;
+  h["height"] = geometry.height;
+  const std::string hs = h.dump();
+  WriteFileAtomic(path, [&](std::ostream& out) {
+    out.write(kMagic, 8);
+    const uint64_t len = hs.size();
+    out.write(reinterpret_cast<const char*>(&len), 8);
+    out.write(hs.data(), hs.size());
+    for (size_t p = 0; p < P; ++p) {
+      const int32_t xy[2] = {geometry.x[p], geometry.y[p]};
+      out.write(reinterpret_cast<const char*>(xy), 8);
+    }
+    for (size_t p = 0; p < P; ++p) {
+      const double v[6] = {geometry.normal[p].x, geometry.normal[p].y, geometry.normal[p].z,
+                           geometry.view[p].x,   geometry.view[p].y,   geometry.view[p].z};
+      out.write(reinterpret_cast<const char*>(v), sizeof v);
+    }
+    for (int c = 0; c < 3; ++c) out.write(reinterpret_cast<const char*>(Y[c].data()), P * n * 4);
+  });
+}
+
+BasisImages BasisImages::Read(const std::string& path) { return Parse(ReadFileBytes(path), path); }
+
+BasisImages BasisImages::Parse(const std::string& bytes, const std::string& name) {
+  if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 8) != 0)
+    throw FileError(name, "not a brdfshot basis-image file (bad magic)");
+  uint64_t len;
+  std::memcpy(&len, bytes.data() + 8, 8);
+  if (len > bytes.size() - 16) throw FileError(name, "truncated header");
+  BasisImages b;
+  try {
+    b.header = nlohmann::json::parse(bytes.substr(16, len));
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(name, std::string("bad JSON header: ") + e.what());
+  }
+  uint64_t P, n;
+  try {
+    P = b.header.at("pixels").get<uint64_t>();
+    n = b.header.at("num_bases").get<uint64_t>();
+    b.geometry.width = b.header.at("width");
+    b.geometry.height = b.header.at("height");
+    if (b.header.at("bases").size() != n) throw FileError(name, "basis names do not match num_bases");
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(name, std::string("incomplete header: ") + e.what());
+  }
+  if (P > (1ull << 28) || n > 100000) throw FileError(name, "absurd size in header");
+  const uint64_t need = 16 + len + P * 8 + P * 48 + 3 * P * n * 4;
+  if (bytes.size() != need)
+    throw FileError(name, "size " + std::to_string(bytes.size()) + " does not match header (needs " +
+                              std::to_string(need) + "): truncated or corrupt");
+  const char* p = bytes.data() + 16 + len;
+  b.geometry.x.resize(P);
+  b.geometry.y.resize(P);
+  for (size_t i = 0; i < P; ++i) {
+    int32_t xy[2];
+    std::memcpy(xy, p + 8 * i, 8);
+    b.geometry.x[i] = xy[0];
+    b.geometry.y[i] = xy[1];
+  }
+  p += 8 * P;
+  for (size_t i = 0; i < P; ++i) {
+    double v[6];
+    std::memcpy(v, p + 48 * i, 48);
+    b.geometry.normal.push_back(Vec3(v[0], v[1], v[2]));
+    b.geometry.view.push_back(Vec3(v[3], v[4], v[5]));
+  }
+  p += 48 * P;
+  for (int c = 0; c < 3; ++c) {
+    b.Y[c].resize(P, n);
+    std::memcpy(b.Y[c].data(), p, P * n * 4);
+    p += P * n * 4;
+    if (!b.Y[c].allFinite()) throw FileError(name, "basis images contain NaN or Inf");
+  }
+  return b;
+}
+
+}  // namespace brdfshot

@@ -1,0 +1,30 @@
+// The basis-image cache: Y for one scene (probe + pixel geometry + quality +
+// database), so later stages never re-render. File layout:
+//   "BSHOTBI1" | uint64 header bytes | JSON header | int32 x,y per pixel |
+//   float64 normal, view per pixel | float32 Y_R, Y_G, Y_B (pixels × bases, row-major)
+// The JSON header records the probe (name, hash), the geometry hash, the
+// quality settings, the database label and every basis name.
+#pragma once
+
+#include <array>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "fit/nbrdf.h"
+#include "normals/sphere_geometry.h"
+
+namespace brdfshot {
+
+struct BasisImages {
+  nlohmann::json header;
+  PixelGeometry geometry;
+  std::array<MatrixXfR, 3> Y;
+
+  std::vector<std::string> BasisNames() const;
+  void Write(const std::string& path) const;  // atomic
+  // Errors name the file: bad magic, truncated, header/payload mismatch, NaN.
+  static BasisImages Read(const std::string& path);
+  static BasisImages Parse(const std::string& bytes, const std::string& name);
+};
+
+}  // namespace brdfshot

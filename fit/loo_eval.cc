@@ -1,0 +1,140 @@
+#include "fit/loo_eval.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "util/check.h"
+#include "util/progress.h"
+
+namespace brdfshot {
+
+double RelativeError(const std::array<const Eigen::MatrixXd*, 3>& g, const Eigen::MatrixXd& w, int m) {
+  double num = 0, den = 0;
+  for (int c = 0; c < 3; ++c) {
+    Eigen::VectorXd d = w.col(c);
+    d[3 * m + c] -= 1.0;
+    num += d.dot(*g[c] * d);
+    den += (*g[c])(3 * m + c, 3 * m + c);
+  }
+  return den > 0 ? std::sqrt(std::max(0.0, num) / den) : 0.0;
+}
+
+namespace {
+// Projection of channel c of material m onto `keep` in the metric `gcos`:
+// argmin (w − e)ᵀ G (w − e) over w supported on keep ⇒ G_KK w_K = G_K,e.
+// G_KK may be singular (near-duplicate bases): pseudo-inverse through its
+// eigendecomposition, dropping eigenvalues below 1e-12 of the largest.
+Eigen::MatrixXd OracleWeights(const Eigen::MatrixXd& gcos, const std::vector<int>& keep, int m) {
+  const Eigen::Index n = gcos.rows();
+  const Eigen::MatrixXd Gkk = gcos(keep, keep);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Gkk);
+  const Eigen::VectorXd ev = eig.eigenvalues();
+  const double cut = 1e-12 * ev.maxCoeff();
+  Eigen::VectorXd inv = ev;
+  for (Eigen::Index i = 0; i < ev.size(); ++i) inv[i] = ev[i] > cut ? 1.0 / ev[i] : 0.0;
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(n, 3);
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::VectorXd rhs = gcos(keep, std::vector<int>{3 * m + c});
+    const Eigen::VectorXd x = eig.eigenvectors() * inv.asDiagonal() * (eig.eigenvectors().transpose() * rhs);
+    for (size_t k = 0; k < keep.size(); ++k) w(keep[k], c) = x[k];
+  }
+  return w;
+}
+
+std::vector<std::vector<int>> MembersInFull(const ClassModel& model, const std::vector<int>& keep) {
+  std::vector<std::vector<int>> out(model.classes());
+  for (size_t i = 0; i < keep.size(); ++i) out[model.label[i]].push_back(keep[i]);
+  return out;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+}  // namespace
+
+LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
+  const int M = static_cast<int>(in.materials.size());
+  const int n = 3 * M;
+  BRDFSHOT_CHECK(in.gram.rows() == n && in.gram_cos.rows() == n && !in.scenes.empty());
+  const int S = static_cast<int>(in.scenes.size());
+  std::vector<std::array<Eigen::MatrixXd, 3>> R(S);
+  for (int s = 0; s < S; ++s) R[s] = in.scenes[s].R();
+
+  std::vector<std::vector<LooRow>> per_material(M);
+  std::vector<double> t_cluster(M), t_solve(M);
+  Progress progress("leave-one-out", M, opt.progress);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int m = 0; m < M; ++m) {
+    Stopwatch sw;
+    std::vector<int> keep;
+    for (int i = 0; i < n; ++i)
+      if (i / 3 != m) keep.push_back(i);
+    const Eigen::MatrixXd gk = in.gram(keep, keep);
+    GmmOptions ours_opt = opt.gmm, paper_opt = opt.gmm;
+    ours_opt.paper_mstep = false;
+    paper_opt.paper_mstep = true;
+    const auto ours_members = MembersInFull(BuildClassModel(gk, ours_opt), keep);
+    const auto paper_members = MembersInFull(BuildClassModel(gk, paper_opt), keep);
+    const Eigen::MatrixXd oracle = OracleWeights(in.gram_cos, keep, m);
+    t_cluster[m] = sw.Seconds();
+
+    Stopwatch sw2;
+    SolveOptions so;
+    so.lambda = opt.lambda;
+    so.condition = false;
+    const std::array<const Eigen::MatrixXd*, 3> gcos = {&in.gram_cos, &in.gram_cos, &in.gram_cos};
+    for (int a = 0; a < S; ++a) {
+      Observation obs;
+      for (int c = 0; c < 3; ++c) {
+        obs.z[c] = R[a][c].col(3 * m + c);
+        obs.norm2[c] = in.scenes[a].f[c].gram(3 * m + c, 3 * m + c);
+      }
+      struct Method {
+        const char* name;
+        Eigen::MatrixXd w;
+        int cls;
+      };
+      const ClasswiseFit ours = SolveClasswise(R[a], obs, ours_members, so);
+      const ClasswiseFit paper = SolveClasswise(R[a], obs, paper_members, so);
+      const Method methods[] = {{"ours", ours.weights(), ours.chosen},
+                                {"paper", paper.weights(), paper.chosen},
+                                {"lsq", SolveLeastSquares(R[a], obs, keep), -1},
+                                {"oracle", oracle, -1}};
+      for (const Method& meth : methods) {
+        LooRow row;
+        row.material = in.materials[m];
+        row.probe = in.scenes[a].probe;
+        row.method = meth.name;
+        row.chosen_class = meth.cls;
+        std::vector<double> relit;
+        for (int b = 0; b < S; ++b) {
+          if (b == a && S > 1) continue;
+          const auto& f = in.scenes[b].f;
+          relit.push_back(RelativeError({&f[0].gram, &f[1].gram, &f[2].gram}, meth.w, m));
+        }
+        double sum = 0;
+        for (double e : relit) sum += e;
+        row.relit_mean = sum / relit.size();
+        row.relit_median = Median(relit);
+        row.brdf = RelativeError(gcos, meth.w, m);
+        const auto& fa = in.scenes[a].f;
+        row.insample = RelativeError({&fa[0].gram, &fa[1].gram, &fa[2].gram}, meth.w, m);
+        per_material[m].push_back(row);
+      }
+    }
+    t_solve[m] = sw2.Seconds();
+    progress.Step();
+  }
+  LooResult r;
+  for (int m = 0; m < M; ++m) {
+    r.rows.insert(r.rows.end(), per_material[m].begin(), per_material[m].end());
+    r.seconds_cluster += t_cluster[m];
+    r.seconds_solve += t_solve[m];
+  }
+  return r;
+}
+
+}  // namespace brdfshot
