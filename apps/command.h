@@ -27,5 +27,8 @@ int SynthDbMain(int argc, char** argv);
 int NbrdfDbMain(int argc, char** argv);
 int ClusterMain(int argc, char** argv);
 int EvalMain(int argc, char** argv);
+int BasisMain(int argc, char** argv);
+int RenderMain(int argc, char** argv);
+int FitMain(int argc, char** argv);
 
 }  // namespace brdfshot

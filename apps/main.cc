@@ -14,7 +14,10 @@ const std::vector<Command>& Commands() {
   static const std::vector<Command> kCommands = {
       {"synth-db", "write the analytic stand-in materials as MERL .binary files", SynthDbMain},
       {"nbrdf-db", "write MERL's materials from their neural fits as MERL .binary files", NbrdfDbMain},
+      {"render", "render one BRDF on a sphere under a probe (EXR + PNG)", RenderMain},
+      {"basis", "basis images of a scene (every basis BRDF under the probe), cached", BasisMain},
       {"cluster", "class model of the database: SVD + GMM, MDS picture (paper sec. 3)", ClusterMain},
+      {"fit", "fit a photo: class-wise regularised solve, BRDF + previews", FitMain},
       {"eval", "leave-one-out evaluation against least squares, the paper and the oracle", EvalMain},
   };
   return kCommands;
