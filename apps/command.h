@@ -30,5 +30,6 @@ int EvalMain(int argc, char** argv);
 int BasisMain(int argc, char** argv);
 int RenderMain(int argc, char** argv);
 int FitMain(int argc, char** argv);
+int CompareMain(int argc, char** argv);
 
 }  // namespace brdfshot

@@ -18,6 +18,7 @@ const std::vector<Command>& Commands() {
       {"basis", "basis images of a scene (every basis BRDF under the probe), cached", BasisMain},
       {"cluster", "class model of the database: SVD + GMM, MDS picture (paper sec. 3)", ClusterMain},
       {"fit", "fit a photo: class-wise regularised solve, BRDF + previews", FitMain},
+      {"compare", "relative RMSE of one linear image against a reference", CompareMain},
       {"eval", "leave-one-out evaluation against least squares, the paper and the oracle", EvalMain},
   };
   return kCommands;

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# End-to-end checks of the brdfshot executable: bad input gives a message that
+# names the file, a non-zero exit, and leaves the input untouched; the staged
+# pipeline recovers a stand-in material from its synthetic photo.
+set -u
+B="$1"; SRC="$2"; T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+fail=0; pass=0
+check() {  # check NAME EXPECTED_RC FRAGMENT -- command...
+  local name=$1 want=$2 frag=$3; shift 4
+  out=$("$@" 2>&1); rc=$?
+  if [ "$rc" = "$want" ] && grep -qF -- "$frag" <<<"$out"; then pass=$((pass+1));
+  else echo "FAIL $name: rc=$rc (want $want), output: $out"; fail=$((fail+1)); fi
+}
+DATA="$SRC/samples/assets"; DB="--db standin --data $DATA --grid 20x20x40"
+PROBE="$DATA/envmaps/studio_256.exr"
+printf 'junk' > "$T/bad.binary"; cp "$T/bad.binary" "$T/bad.orig"
+check merl-bad 1 "$T/bad.binary" -- "$B" render --merl "$T/bad.binary" --probe "$PROBE" -o "$T/x.exr"
+cmp -s "$T/bad.binary" "$T/bad.orig" && pass=$((pass+1)) || { echo "FAIL input modified"; fail=$((fail+1)); }
+[ ! -e "$T/x.exr" ] && pass=$((pass+1)) || { echo "FAIL partial output"; fail=$((fail+1)); }
+check probe-missing 1 "$T/none.exr" -- "$B" basis $DB --probe "$T/none.exr" -o "$T/y.bsbi"
+check probe-folder 1 "is a folder" -- "$B" basis $DB --probe "$T" -o "$T/y.bsbi"
+check out-folder 1 "is a folder" -- "$B" render --standin demo-gold $DB --probe "$PROBE" -o "$T"
+check unknown-cmd 2 "unknown command" -- "$B" frobnicate
+check bad-option 1 "see --help" -- "$B" eval --no-such-flag
+check help 0 "--probe" -- "$B" basis --help
+check bad-grid 1 "bad --grid" -- "$B" cluster --db standin --data "$DATA" --grid 9x9 -o "$T/c.json"
+# The pipeline on one capture.
+check render 0 "wrote" -- "$B" render --standin demo-steel $DB --probe "$PROBE" --sphere 48 -o "$T/photo.exr"
+check basis 0 "wrote" -- "$B" basis $DB --probe "$PROBE" --sphere 48 -o "$T/b.bsbi"
+check cluster 0 "class sizes" -- "$B" cluster $DB -o "$T/c.json"
+check fit 0 "chosen class" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --preview-probes "$PROBE" -o "$T/fit"
+# The fitted BRDF relit must match the truth: the material is one of the bases.
+"$B" render --weights "$T/fit/fit.json" --data "$DATA" --probe "$PROBE" --sphere 48 -o "$T/relit.exr" >/dev/null 2>&1
+err=$("$B" compare "$T/photo.exr" "$T/relit.exr" | sed 's/relative RMSE \([0-9.]*\).*/\1/')
+awk -v e="$err" 'BEGIN{exit !(e < 0.05)}' && pass=$((pass+1)) || { echo "FAIL relit error $err >= 0.05"; fail=$((fail+1)); }
+check photo-size 1 "basis images are for" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$PROBE" --classes "$T/c.json" -o "$T/fit2"
+echo "$pass passed, $fail failed"
+[ "$fail" = 0 ]
