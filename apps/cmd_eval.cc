@@ -21,12 +21,6 @@ namespace brdfshot {
 namespace po = boost::program_options;
 
 namespace {
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 const char* kMethods[] = {"ours", "paper", "lsq", "oracle"};
 }  // namespace
 

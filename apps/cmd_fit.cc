@@ -19,8 +19,6 @@
 namespace brdfshot {
 namespace po = boost::program_options;
 
-cv::Mat PixelsToImage(const PixelGeometry& g, const Eigen::MatrixXd& y);
-
 int FitMain(int argc, char** argv) {
   DatabaseArgs db;
   QualityArgs quality;

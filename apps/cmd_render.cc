@@ -13,13 +13,6 @@
 namespace brdfshot {
 namespace po = boost::program_options;
 
-cv::Mat PixelsToImage(const PixelGeometry& g, const Eigen::MatrixXd& y) {
-  cv::Mat img(g.height, g.width, CV_32FC3, cv::Scalar::all(0));
-  for (size_t p = 0; p < g.size(); ++p)
-    img.at<cv::Vec3f>(g.y[p], g.x[p]) = cv::Vec3f(y(p, 0), y(p, 1), y(p, 2));
-  return img;
-}
-
 int RenderMain(int argc, char** argv) {
   DatabaseArgs db;
   QualityArgs quality;

@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "util/check.h"
 #include "util/data_paths.h"
@@ -95,6 +97,25 @@ TEST(LatLongProbe, BadFilesGiveNamedErrors) {
   std::filesystem::remove(bad);
   EXPECT_THROW(LatLongProbe::Read(dir + "/brdfshot_missing.hdr"), Error);
   EXPECT_THROW(LatLongProbe::Read(dir + "/x.jpg"), Error);
+}
+
+}  // namespace brdfshot
+
+namespace brdfshot {
+
+TEST(LatLongProbe, ReadsPfmWrittenByOpenCvInRgbOrder) {
+  cv::Mat rgb(16, 32, CV_32FC3);
+  cv::randu(rgb, 0, 100);
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  const std::string path = std::filesystem::temp_directory_path() / "brdfshot_probe_test.pfm";
+  ASSERT_TRUE(cv::imwrite(path, bgr));
+  const LatLongProbe p = LatLongProbe::Read(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(p.width(), 32);
+  for (int r = 0; r < 16; r += 5)
+    for (int c = 0; c < 32; c += 7)
+      for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(p.Texel(c, r)[k], rgb.at<cv::Vec3f>(r, c)[k]);
 }
 
 }  // namespace brdfshot

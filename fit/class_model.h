@@ -65,8 +65,7 @@ ClassModel BuildClassModel(const Eigen::MatrixXd& gram, const GmmOptions& opt);
 Eigen::VectorXd LogGaussian(const Eigen::MatrixXd& X, const Eigen::VectorXd& mean,
                             const Eigen::MatrixXd& cov);
 
-// Names for the classes, by the materials they hold (for plots and reports):
-// ordered by mean specularity is not knowable here, so classes are named by size.
+// "a / b / c / d": the number of bases in each class, in class order (reports).
 std::string ClassSizes(const ClassModel& m);
 
 }  // namespace brdfshot

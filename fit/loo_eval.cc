@@ -48,12 +48,14 @@ std::vector<std::vector<int>> MembersInFull(const ClassModel& model, const std::
   return out;
 }
 
+}  // namespace
+
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
-}  // namespace
 
 LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
   const int M = static_cast<int>(in.materials.size());

@@ -55,6 +55,9 @@ struct LooResult {
 
 LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt);
 
+// Median (mean of the two middle values for an even count; 0 when empty).
+double Median(std::vector<double> v);
+
 // Weighted error of weights `w` (n × 3) against material m under Gram matrices
 // g[c]: sqrt(Σ_c d_cᵀ g_c d_c / Σ_c g_c(3m+c, 3m+c)).
 double RelativeError(const std::array<const Eigen::MatrixXd*, 3>& g, const Eigen::MatrixXd& w, int m);

@@ -4,7 +4,9 @@
 // are indexed by the same pixel list.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,10 @@ struct PixelGeometry {
 // from the view are dropped: at the silhouette a pixel mixes sphere and
 // background, and its ω_o is grazing (the MERL table is noisiest there).
 PixelGeometry OrthographicSphere(int resolution, double max_angle_deg = 80.0);
+
+// Scatters per-pixel RGB values (pixels × 3) back into a CV_32FC3 image of the
+// geometry's size; pixels not in the list stay black.
+cv::Mat PixelsToImage(const PixelGeometry& g, const Eigen::MatrixXd& rgb);
 
 // Every `step`-th pixel in x and y — for solving on fewer pixels than were shot.
 PixelGeometry Subsample(const PixelGeometry& g, int step);
