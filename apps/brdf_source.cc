@@ -38,8 +38,7 @@ MerlBrdf BrdfSourceArgs::Load(const DatabaseArgs& db, std::string* label) const 
       opt.grid = MerlGrid{g.at(0), g.at(1), g.at(2)};
       const auto names = j.at("bases").get<std::vector<std::string>>();
       const auto w = j.at("weights").get<std::vector<std::array<double, 3>>>();
-      opt.only.clear();
-      for (size_t i = 0; i < names.size(); i += 3) opt.only.push_back(names[i].substr(0, names[i].rfind('/')));
+      opt.only = MaterialsOfBases(names);
       const BasisDatabase base = LoadDatabase(opt);
       if (static_cast<size_t>(base.num_bases()) != w.size()) throw FileError(weights, "weights do not match the bases");
       Eigen::MatrixXd W(w.size(), 3);

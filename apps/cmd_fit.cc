@@ -116,8 +116,7 @@ int FitMain(int argc, char** argv) {
   opt.kind = basis.header["database_kind"];
   const auto g = basis.header["grid"];
   opt.grid = MerlGrid{g[0], g[1], g[2]};
-  opt.only.clear();
-  for (size_t i = 0; i < names.size(); i += 3) opt.only.push_back(names[i].substr(0, names[i].rfind('/')));
+  opt.only = MaterialsOfBases(names);
   const BasisDatabase base = LoadDatabase(opt);
   const MerlBrdf brdf = CombineBases(base, w);
   brdf.Write(out + "/brdf.binary");

@@ -39,6 +39,13 @@ std::vector<std::string> ReadLines(const std::string& path) {
   return out;
 }
 
+std::vector<std::string> MaterialsOfBases(const std::vector<std::string>& basis_names) {
+  std::vector<std::string> out;
+  for (size_t i = 0; i < basis_names.size(); i += 3)
+    out.push_back(basis_names[i].substr(0, basis_names[i].rfind('/')));
+  return out;
+}
+
 std::vector<int> SelectMaterials(const std::vector<std::string>& names, const DatabaseOptions& opt) {
   std::vector<int> keep;
   if (!opt.only.empty()) {

@@ -46,6 +46,9 @@ BasisDatabase LoadDatabase(const DatabaseOptions& opt);
 // Material names listed in a merl-nbrdf materials.txt.
 std::vector<std::string> ReadLines(const std::string& path);
 
+// Material names of basis names "material/C", once per material, in order.
+std::vector<std::string> MaterialsOfBases(const std::vector<std::string>& basis_names);
+
 // Indices of `names` that `opt.only` / `opt.max_materials` keep, in order.
 std::vector<int> SelectMaterials(const std::vector<std::string>& names, const DatabaseOptions& opt);
 
