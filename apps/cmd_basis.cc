@@ -44,9 +44,9 @@ int BasisMain(int argc, char** argv) {
               {"database", base.label}, {"database_kind", base.kind},
               {"grid", {base.grid.n_th, base.grid.n_td, base.grid.n_pd}}, {"bases", names}};
   b.Write(out);
-  std::printf("basis images: %zu pixels x %d bases under %s (%s), %zu nonzeros\n"
+  std::printf("basis images: %zu pixels x %d bases under %s (%s), %d theta_o levels\n"
               "time: database %.2f s, operator %.2f s, apply %.2f s\nwrote %s\n",
-              b.geometry.size(), base.num_bases(), probe.name().c_str(), base.label.c_str(), t.nonzeros(),
+              b.geometry.size(), base.num_bases(), probe.name().c_str(), base.label.c_str(), t.levels(),
               t_db, t_build, t_apply, out.c_str());
   return 0;
 }

@@ -68,8 +68,8 @@ int EvalMain(int argc, char** argv) {
     s.f = FactorBasisImages(t.Apply(base.B));
     in.scenes.push_back(std::move(s));
     t_basis.push_back(ps.Seconds());
-    std::fprintf(stderr, "basis images: %s, %zu pixels x %d bases, %zu nonzeros, %.2f s\n",
-                 probe.name().c_str(), geometry.size(), base.num_bases(), t.nonzeros(), t_basis.back());
+    std::fprintf(stderr, "basis images: %s, %zu pixels x %d bases, %d theta_o levels, %.2f s\n",
+                 probe.name().c_str(), geometry.size(), base.num_bases(), t.levels(), t_basis.back());
   }
 
   loo.progress = true;

@@ -31,5 +31,6 @@ int BasisMain(int argc, char** argv);
 int RenderMain(int argc, char** argv);
 int FitMain(int argc, char** argv);
 int CompareMain(int argc, char** argv);
+int BenchBasisMain(int argc, char** argv);
 
 }  // namespace brdfshot

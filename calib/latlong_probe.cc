@@ -112,29 +112,62 @@ PrefilteredProbe::PrefilteredProbe(const LatLongProbe& probe) {
   }
 }
 
-cv::Vec3f PrefilteredProbe::LookupLevel(const Vec3& d, int level) const {
-  const cv::Mat& m = levels_[level];
-  const double theta = std::acos(std::clamp(d.y, -1.0, 1.0));
-  double phi = std::atan2(-d.x, d.z);
+namespace {
+// atan2 to ~1e-6 rad (minimax polynomial on [0, 1]), several times faster than
+// libm's: the probe lookup is the inner loop of every basis image, and a
+// micro-radian is far below a texel (0.7° at 512 wide).
+inline double FastAtan2(double y, double x) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  const double mx = std::max(ax, ay), mn = std::min(ax, ay);
+  if (mx == 0) return 0;
+  const double z = mn / mx, z2 = z * z;
+  double r = z * (0.99997726 + z2 * (-0.33262347 + z2 * (0.19354346 + z2 * (-0.11643287 +
+                  z2 * (0.05265332 + z2 * (-0.01172120))))));
+  if (ay > ax) r = kPi / 2 - r;
+  if (x < 0) r = kPi - r;
+  return y < 0 ? -r : r;
+}
+}  // namespace
+
+void PrefilteredProbe::Angles(const Vec3& d, double* u, double* v) {
+  // Same frame as LatLongProbe::PixelAt: θ from +Y, φ from −Z towards −X.
+  const double theta = FastAtan2(std::sqrt(d.x * d.x + d.z * d.z), d.y);
+  double phi = FastAtan2(-d.x, d.z);
   if (phi < 0) phi += 2 * kPi;
-  const double x = phi / (2 * kPi) * m.cols - 0.5, y = theta / kPi * m.rows - 0.5;
+  *u = phi / (2 * kPi);
+  *v = theta / kPi;
+}
+
+cv::Vec3f PrefilteredProbe::Bilinear(int level, double u, double v) const {
+  const cv::Mat& m = levels_[level];
+  const double x = u * m.cols - 0.5, y = v * m.rows - 0.5;
   const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
   const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
-  const int xa = (x0 % m.cols + m.cols) % m.cols, xb = (xa + 1) % m.cols;
+  // u ∈ [0, 1] so x0 ∈ [−1, cols]: wrap by comparison, not by division.
+  const int xa = x0 < 0 ? x0 + m.cols : (x0 >= m.cols ? x0 - m.cols : x0);
+  const int xb = xa + 1 == m.cols ? 0 : xa + 1;
   const int ya = std::clamp(y0, 0, m.rows - 1), yb = std::clamp(y0 + 1, 0, m.rows - 1);
   const cv::Vec3f* ra = m.ptr<cv::Vec3f>(ya);
   const cv::Vec3f* rb = m.ptr<cv::Vec3f>(yb);
   return (ra[xa] * (1 - fx) + ra[xb] * fx) * (1 - fy) + (rb[xa] * (1 - fx) + rb[xb] * fx) * fy;
 }
 
+cv::Vec3f PrefilteredProbe::LookupLevel(const Vec3& d, int level) const {
+  double u, v;
+  Angles(d, &u, &v);
+  return Bilinear(level, u, v);
+}
+
 cv::Vec3f PrefilteredProbe::Lookup(const Vec3& d, double omega) const {
+  double u, v;
+  Angles(d, &u, &v);
   const double lod = 0.5 * std::log2(std::max(omega, 1e-30) / texel0_omega_);
-  if (lod <= 0) return LookupLevel(d, 0);
+  if (lod <= 0) return Bilinear(0, u, v);
   const int top = levels() - 1;
-  if (lod >= top) return LookupLevel(d, top);
+  if (lod >= top) return Bilinear(top, u, v);
   const int l0 = static_cast<int>(lod);
   const float t = static_cast<float>(lod - l0);
-  return LookupLevel(d, l0) * (1 - t) + LookupLevel(d, l0 + 1) * t;
+  return Bilinear(l0, u, v) * (1 - t) + Bilinear(l0 + 1, u, v) * t;
 }
 
 }  // namespace brdfshot

@@ -57,6 +57,8 @@ class PrefilteredProbe {
   int levels() const { return static_cast<int>(levels_.size()); }
 
  private:
+  static void Angles(const Vec3& dir, double* u, double* v);  // lat-long coords in [0,1]²
+  cv::Vec3f Bilinear(int level, double u, double v) const;
   std::vector<cv::Mat> levels_;  // CV_32FC3, level 0 is the probe
   double texel0_omega_;          // mean texel solid angle at level 0
 };

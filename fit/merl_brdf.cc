@@ -57,29 +57,17 @@ Rgb MerlBrdf::Eval(const Vec3& wi, const Vec3& wo) const {
 }
 
 Rgb MerlBrdf::EvalHalfDiff(const HalfDiff& hd) const {
-  double uh, ud, up;
-  grid_.Continuous(hd, &uh, &ud, &up);
-  const int i0 = std::clamp(static_cast<int>(std::floor(uh)), 0, grid_.n_th - 1);
-  const int j0 = std::clamp(static_cast<int>(std::floor(ud)), 0, grid_.n_td - 1);
-  const int k0 = static_cast<int>(std::floor(up)) % grid_.n_pd;
-  const double fh = std::clamp(uh - i0, 0.0, 1.0), fd = std::clamp(ud - j0, 0.0, 1.0),
-               fp = up - std::floor(up);
-  const int i1 = std::min(i0 + 1, grid_.n_th - 1), j1 = std::min(j0 + 1, grid_.n_td - 1);
-  const int k1 = (k0 + 1) % grid_.n_pd;
+  size_t idx[8];
+  double w[8];
+  const int n = grid_.TrilinearCorners(hd, idx, w);
   double acc[3] = {0, 0, 0}, wsum[3] = {0, 0, 0};
-  for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b)
-      for (int e = 0; e < 2; ++e) {
-        const double w = (a ? fh : 1 - fh) * (b ? fd : 1 - fd) * (e ? fp : 1 - fp);
-        if (w == 0) continue;
-        const size_t idx = grid_.Index(a ? i1 : i0, b ? j1 : j0, e ? k1 : k0);
-        for (int c = 0; c < 3; ++c) {
-          const double v = Value(c, idx);
-          if (v < 0) continue;
-          acc[c] += w * v;
-          wsum[c] += w;
-        }
-      }
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c) {
+      const double v = Value(c, idx[k]);
+      if (v < 0) continue;  // unmeasured corner: left out, weights renormalised
+      acc[c] += w[k] * v;
+      wsum[c] += w[k];
+    }
   Rgb out;
   out.r = wsum[0] > 0 ? acc[0] / wsum[0] : 0;
   out.g = wsum[1] > 0 ? acc[1] / wsum[1] : 0;

@@ -59,6 +59,27 @@ size_t MerlGrid::NearestIndex(const HalfDiff& hd) const {
   return Index(i, j, k);
 }
 
+int MerlGrid::TrilinearCorners(const HalfDiff& hd, size_t idx[8], double w[8]) const {
+  double uh, ud, up;
+  Continuous(hd, &uh, &ud, &up);
+  const int i0 = std::clamp(static_cast<int>(std::floor(uh)), 0, n_th - 1);
+  const int j0 = std::clamp(static_cast<int>(std::floor(ud)), 0, n_td - 1);
+  const int k0 = static_cast<int>(std::floor(up)) % n_pd;
+  const double fh = std::clamp(uh - i0, 0.0, 1.0), fd = std::clamp(ud - j0, 0.0, 1.0), fp = up - std::floor(up);
+  const int i1 = std::min(i0 + 1, n_th - 1), j1 = std::min(j0 + 1, n_td - 1);
+  const int k1 = (k0 + 1) % n_pd;
+  int n = 0;
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b)
+      for (int e = 0; e < 2; ++e) {
+        const double x = (a ? fh : 1 - fh) * (b ? fd : 1 - fd) * (e ? fp : 1 - fp);
+        if (x == 0) continue;
+        idx[n] = Index(a ? i1 : i0, b ? j1 : j0, e ? k1 : k0);
+        w[n++] = x;
+      }
+  return n;
+}
+
 bool MerlGrid::Measurable(size_t idx) const { return CosineWeight(idx) > 0; }
 
 double MerlGrid::CosineWeight(size_t idx) const {

@@ -39,6 +39,10 @@ struct MerlGrid {
   void Continuous(const HalfDiff& hd, double* u_h, double* u_d, double* u_p) const;
   // Nearest-entry index (what MERL's reference lookup returns, rounded not floored).
   size_t NearestIndex(const HalfDiff& hd) const;
+  // The 8 entries around an angle triple and their trilinear weights (summing to
+  // 1; φ_d wraps, the other axes clamp at the table's ends). Returns how many
+  // corners have a non-zero weight (they come first).
+  int TrilinearCorners(const HalfDiff& hd, size_t idx[8], double w[8]) const;
   // Both directions of the entry above the horizon, i.e. measurable.
   bool Measurable(size_t idx) const;
   // cos θ_i · cos θ_o at the entry's lattice point (0 where not measurable).

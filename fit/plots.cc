@@ -109,4 +109,60 @@ cv::Mat BarPlot(const std::vector<std::vector<double>>& values, const std::vecto
   return img;
 }
 
+namespace {
+// Decade-aligned log range covering every positive value.
+void LogRange(const std::vector<double>& v, double* lo, double* hi) {
+  *lo = 1e300, *hi = -1e300;
+  for (double x : v)
+    if (x > 0) *lo = std::min(*lo, x), *hi = std::max(*hi, x);
+  if (*lo > *hi) *lo = 1, *hi = 10;
+  *lo = std::pow(10, std::floor(std::log10(*lo)));
+  *hi = std::pow(10, std::ceil(std::log10(*hi)));
+  if (*hi <= *lo) *hi = *lo * 10;
+}
+}  // namespace
+
+cv::Mat LogLogPlot(const std::vector<XYSeries>& series, const std::string& title, const std::string& xlabel,
+                   const std::string& ylabel, double goal_y) {
+  cv::Mat img(600, 1000, CV_8UC3, cv::Scalar::all(255));
+  Frame(img, title);
+  std::vector<double> xs, ys;
+  for (const auto& s : series) xs.insert(xs.end(), s.x.begin(), s.x.end()), ys.insert(ys.end(), s.y.begin(), s.y.end());
+  if (goal_y > 0) ys.push_back(goal_y);
+  double x0, x1, y0, y1;
+  LogRange(xs, &x0, &x1);
+  LogRange(ys, &y0, &y1);
+  auto px = [&](double v) {
+    return static_cast<int>(80 + (std::log10(std::max(v, x0)) - std::log10(x0)) / (std::log10(x1) - std::log10(x0)) * 880);
+  };
+  auto py = [&](double v) {
+    return static_cast<int>(530 - (std::log10(std::max(v, y0)) - std::log10(y0)) / (std::log10(y1) - std::log10(y0)) * 460);
+  };
+  char buf[32];
+  for (double d = y0; d <= y1 * 1.01; d *= 10) {
+    cv::line(img, {80, py(d)}, {960, py(d)}, {220, 220, 220});
+    std::snprintf(buf, sizeof buf, "%g", d);
+    cv::putText(img, buf, {5, py(d) + 4}, cv::FONT_HERSHEY_PLAIN, 0.9, {0, 0, 0});
+  }
+  for (double d = x0; d <= x1 * 1.01; d *= 10) {
+    cv::line(img, {px(d), 70}, {px(d), 530}, {220, 220, 220});
+    std::snprintf(buf, sizeof buf, "%g", d);
+    cv::putText(img, buf, {px(d) - 10, 550}, cv::FONT_HERSHEY_PLAIN, 0.9, {0, 0, 0});
+  }
+  if (goal_y > 0) cv::line(img, {80, py(goal_y)}, {960, py(goal_y)}, {0, 0, 200}, 1, cv::LINE_AA);
+  cv::putText(img, xlabel, {420, 585}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
+  cv::putText(img, ylabel, {5, 60}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
+  for (size_t s = 0; s < series.size(); ++s) {
+    const cv::Scalar col = ClassColor(static_cast<int>(s));
+    const auto& S = series[s];
+    for (size_t i = 0; i < S.x.size(); ++i) {
+      cv::circle(img, {px(S.x[i]), py(S.y[i])}, 3, col, cv::FILLED, cv::LINE_AA);
+      if (i > 0) cv::line(img, {px(S.x[i - 1]), py(S.y[i - 1])}, {px(S.x[i]), py(S.y[i])}, col, 1, cv::LINE_AA);
+    }
+    cv::putText(img, S.name, {100 + 220 * static_cast<int>(s % 4), 40 + 16 * static_cast<int>(s / 4)},
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, col, 1, cv::LINE_AA);
+  }
+  return img;
+}
+
 }  // namespace brdfshot

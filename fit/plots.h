@@ -26,6 +26,15 @@ cv::Mat LinePlotLog(const std::vector<std::vector<double>>& series,
 cv::Mat BarPlot(const std::vector<std::vector<double>>& values, const std::vector<std::string>& groups,
                 const std::vector<std::string>& series, const std::string& title);
 
+// Series of (x, y) points joined by lines on log-log axes, with an optional
+// horizontal goal line (0: none): e.g. time against error per setting.
+struct XYSeries {
+  std::string name;
+  std::vector<double> x, y;
+};
+cv::Mat LogLogPlot(const std::vector<XYSeries>& series, const std::string& title, const std::string& xlabel,
+                   const std::string& ylabel, double goal_y = 0);
+
 cv::Scalar ClassColor(int k);
 
 }  // namespace brdfshot

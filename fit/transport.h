@@ -2,7 +2,7 @@
 //
 // For fixed lighting and pixel geometry, rendering is linear in the BRDF table:
 //   y_c(pixel) = Σ_bins T_c(pixel, bin) ρ(bin),
-// so the images of all bases are one sparse–dense product Y_c = T_c B.
+// so the images of all bases are Y_c = T_c B for the whole basis matrix at once.
 //
 // Quadrature (why it works for chrome and felt alike): per pixel we integrate
 // over the half vector h in the local frame, with √θ_h on a midpoint grid —
@@ -10,8 +10,22 @@
 // uniform. ω_i = reflect(ω_o, h), dω_i = 4 (ω_o·h) dω_h. The probe is looked up
 // prefiltered over each sample's footprint dω_i, so a sample near the mirror
 // direction sees a sharp probe and a grazing sample a blurred one: no aliasing
-// with a few hundred samples. The BRDF is read at the nearest MERL entry
-// (duplicates merged per pixel), which keeps T as sparse as the samples.
+// with a few hundred samples. The table is read trilinearly, as MerlBrdf::Eval
+// reads it (nearest-entry reads cost metals ~10 % against the converged
+// reference: `brdfshot bench-basis`).
+//
+// Why T is applied in factored form, T = A S: in the frame (normal, plane of
+// the view) ω_o = (sin θ_o, 0, cos θ_o) for every camera, so which table entries
+// a half-vector sample reads depends on θ_o alone. Pixels are grouped into θ_o
+// levels (one MERL θ_d bin apart, each pixel linear between its two); per
+// level, S averages the table over each sample's cell (M = S B: samples ×
+// bases, computed once per level) and A holds each pixel's lighting per sample
+// (cos θ_i dω_i L, from its own exact frame and ω_o). Y for a level is then one
+// dense product A M — cache-friendly, unlike a sparse T whose rows gather from
+// a 1.7 GB table. Because M is per level, not per pixel, the table can be read
+// at many points inside each sample's cell (a specular peak spans 2–3 MERL θ_h
+// bins, narrower than a cell) while the probe is read once per cell, prefiltered
+// over it: the BRDF gets its resolution, the lighting its own.
 //
 // A sun is the one thing a fixed grid cannot integrate: a texel holding a large
 // share of the probe's power lands between samples. Such texels are taken out of
@@ -21,6 +35,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,6 +52,8 @@ struct RenderQuality {
   int probe_width = 512;   // probe box-resampled to this width first (0 = as given)
   int max_lights = 64;     // texels split off as directional lights (0 = none)
   double light_share = 0.002;  // ...if each holds at least this share of the power
+  double level_step_deg = 1.0;   // θ_o spacing of the levels pixels interpolate between
+  int brdf_supersample = 0;      // table reads per sample cell along √θ_h (0: auto, ~1 per bin)
   std::string Describe() const;
 };
 
@@ -52,9 +69,10 @@ class TransportOperator {
   static TransportOperator Build(const PixelGeometry& geometry, const LatLongProbe& probe,
                                  const MerlGrid& grid, const RenderQuality& quality);
 
-  size_t pixels() const { return offset_.size() - 1; }
-  size_t nonzeros() const { return bin_.size(); }
+  size_t pixels() const { return normal_.size(); }
   const MerlGrid& grid() const { return grid_; }
+  int levels() const { return static_cast<int>(level_pixels_.size()); }
+  const std::vector<DirectionalLight>& lights() const { return lights_; }
 
   // Y_c = T_c B for c = R, G, B light channels: each pixels × B.cols().
   std::array<MatrixXfR, 3> Apply(const MatrixXfR& B) const;
@@ -62,10 +80,31 @@ class TransportOperator {
   Eigen::MatrixXd Render(const MerlBrdf& brdf) const;
 
  private:
+  struct Sample {
+    Vec3 h;
+    double dwh;
+    int a, b;  // cell along √θ_h and φ_h
+  };
+  struct TablePoint {
+    HalfDiff hd;
+    double weight;
+  };
+  // Y_c for a BRDF given by `row(points, out)`: writes the `n` column values of
+  // Σ weight · ρ(hd) over the points.
+  template <typename RowFn>
+  std::array<MatrixXfR, 3> ApplyImpl(Eigen::Index n, RowFn row) const;
+
   MerlGrid grid_;
-  std::vector<uint64_t> offset_;  // pixels + 1
-  std::vector<uint32_t> bin_;     // MERL entry per nonzero
-  std::vector<float> weight_;     // 3 per nonzero: L_c cosθ_i dω_i
+  RenderQuality quality_;
+  std::vector<Vec3> normal_, view_;
+  struct LevelPixel {
+    uint32_t pixel;
+    float weight;  // linear in θ_o between this level and its neighbour
+  };
+  std::vector<std::vector<LevelPixel>> level_pixels_;  // level l at θ_o = l · step
+  std::vector<Sample> samples_;
+  std::vector<DirectionalLight> lights_;
+  std::shared_ptr<const PrefilteredProbe> probe_;  // the probe without its suns
 };
 
 // Converged reference for tests and error reports: the same integral with a

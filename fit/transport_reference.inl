@@ -23,7 +23,9 @@ Eigen::MatrixXd RenderReference(const PixelGeometry& g, const LatLongProbe& prob
     double acc[3] = {0, 0, 0};
     for (int a = 0; a < nt; ++a) {
       const double u = (a + 0.5) / nt, th = u * u * kPi / 2;
-      const double dwh_t = std::sin(th) * kPi * u / nt * (2 * kPi / np);
+      // Exact cell solid angle (the midpoint rule is 2× off in the first cell).
+      const double u0 = double(a) / nt, u1 = double(a + 1) / nt;
+      const double dwh_t = (std::cos(u0 * u0 * kPi / 2) - std::cos(u1 * u1 * kPi / 2)) * (2 * kPi / np);
       for (int b = 0; b < np; ++b) {
         const double ph = 2 * kPi * (b + 0.5) / np;
         const Vec3 h(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));

@@ -1,0 +1,76 @@
+#include "fit/basis_reference.h"
+
+#include "fit/transport.h"
+#include "util/check.h"
+
+namespace brdfshot {
+
+const std::vector<MaterialClassList>& ReferenceClasses() {
+  // Three per class, spanning each class's range: matte to dusty, rough to
+  // mirror-like, single- to two-layer coats.
+  static const std::vector<MaterialClassList> kClasses = {
+      {"diffuse", {"blue-fabric", "pink-felt", "white-diffuse-bball"}},
+      {"plastic", {"red-plastic", "gray-plastic", "pvc"}},
+      {"metal", {"chrome", "aluminium", "brass"}},
+      {"specular paint", {"specular-black-phenolic", "gold-metallic-paint", "two-layer-gold"}},
+  };
+  return kClasses;
+}
+
+std::vector<std::string> ReferenceMaterialNames() {
+  std::vector<std::string> names;
+  for (const auto& c : ReferenceClasses()) names.insert(names.end(), c.materials.begin(), c.materials.end());
+  return names;
+}
+
+std::string ReferenceClassOf(const std::string& material) {
+  for (const auto& c : ReferenceClasses())
+    for (const auto& m : c.materials)
+      if (m == material) return c.name;
+  return "";
+}
+
+MerlBrdf MaterialTable(const BasisDatabase& db, int m) {
+  BRDFSHOT_CHECK(m >= 0 && m < db.num_materials());
+  MerlBrdf t(db.grid);
+  for (size_t idx = 0; idx < db.grid.size(); ++idx)
+    for (int c = 0; c < 3; ++c) t.set_raw(c, idx, db.B(idx, 3 * m + c) / kMerlScale[c]);
+  return t;
+}
+
+BasisImages RenderReferenceImages(const PixelGeometry& g, const LatLongProbe& probe, const BasisDatabase& db,
+                                  const std::vector<int>& materials, int theta, int phi, Progress* progress) {
+  BasisImages out;
+  out.geometry = g;
+  for (auto& y : out.Y) y = MatrixXfR::Zero(g.size(), 3 * materials.size());
+  std::vector<std::string> names;
+  for (size_t k = 0; k < materials.size(); ++k) {
+    const MerlBrdf table = MaterialTable(db, materials[k]);
+    const Eigen::MatrixXd img = RenderReference(
+        g, probe, [&](const Vec3& wi, const Vec3& wo) { return table.Eval(wi, wo); }, theta, phi);
+    for (int c = 0; c < 3; ++c) {
+      // Every channel image is stored for every light channel column layout the
+      // fast cache uses: column 3k + c of Y_c.
+      out.Y[c].col(3 * k + c) = img.col(c).cast<float>();
+      names.push_back(db.BasisName(3 * materials[k] + c));
+    }
+    if (progress) progress->Step();
+  }
+  out.header = {{"format", "brdfshot-basis-images-1"}, {"reference", true},
+                {"probe_name", probe.name()}, {"probe_hash", probe.Hash()},
+                {"probe_size", {probe.width(), probe.height()}},
+                {"geometry_hash", g.Hash()}, {"quality", "reference theta=" + std::to_string(theta) +
+                                                             ",phi=" + std::to_string(phi) + ",trilinear,unfiltered"},
+                {"database", db.label}, {"database_kind", db.kind}, {"bases", names}};
+  return out;
+}
+
+double RelativeRmse(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& ref) {
+  BRDFSHOT_CHECK(y.size() == ref.size());
+  const double n = ref.norm();
+  const double d = (y - ref).norm();
+  if (n == 0) return d == 0 ? 0 : std::numeric_limits<double>::infinity();
+  return d / n;
+}
+
+}  // namespace brdfshot
