@@ -1,0 +1,187 @@
+#include "capture/merge.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <exiv2/exiv2.hpp>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+#include <unistd.h>
+
+#include "capture/exposure.h"
+#include "capture/raw.h"
+#include "capture/response.h"
+#include "util/check.h"
+#include "util/data_paths.h"
+
+namespace brdfshot {
+namespace fs = std::filesystem;
+
+namespace {
+fs::path TempDir() {
+  const fs::path d = fs::temp_directory_path() / ("brdfshot_capture_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+ResponseCurve Linear8() {
+  ResponseCurve r;
+  r.levels = 256;
+  return r;
+}
+}  // namespace
+
+TEST(Exposure, ParsesFractionsDecimalsAndRejectsGarbage) {
+  EXPECT_DOUBLE_EQ(ParseExposureTime("1/250", "t"), 1.0 / 250);
+  EXPECT_DOUBLE_EQ(ParseExposureTime(" 0.5 ", "t"), 0.5);
+  EXPECT_DOUBLE_EQ(ParseExposureTime("2s", "t"), 2.0);
+  EXPECT_THROW(ParseExposureTime("fast", "t"), Error);
+  EXPECT_THROW(ParseExposureTime("1/0", "t"), Error);
+  EXPECT_THROW(ParseExposureTime("-3", "t"), Error);
+  const fs::path f = TempDir() / "times.txt";
+  std::ofstream(f) << "# bracket\n1/4\n\n1/2\n1\n";
+  EXPECT_EQ(ReadTimesFile(f.string()), (std::vector<double>{0.25, 0.5, 1.0}));
+  try {
+    ReadTimesFile(f.string(), 4);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("times.txt"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("3 exposure times for 4 frames"), std::string::npos);
+  }
+}
+
+TEST(Exposure, ReadsExifThatExiv2Wrote) {
+  const fs::path f = TempDir() / "exif.jpg";
+  cv::imwrite(f.string(), cv::Mat(8, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
+  {
+    auto img = Exiv2::ImageFactory::open(f.string());
+    Exiv2::ExifData exif;
+    exif["Exif.Photo.ExposureTime"] = Exiv2::URational(1, 60);
+    exif["Exif.Photo.FNumber"] = Exiv2::URational(4, 1);
+    exif["Exif.Photo.ISOSpeedRatings"] = uint16_t(200);
+    exif["Exif.Image.Orientation"] = uint16_t(6);
+    exif["Exif.Image.Make"] = "TestCam";
+    img->setExifData(exif);
+    img->writeMetadata();
+  }
+  const ExifInfo e = ReadExif(f.string());
+  EXPECT_DOUBLE_EQ(e.exposure_time, 1.0 / 60);
+  EXPECT_DOUBLE_EQ(e.f_number, 4.0);
+  EXPECT_DOUBLE_EQ(e.iso, 200.0);
+  EXPECT_EQ(e.orientation, 6);
+  EXPECT_EQ(e.camera, "TestCam");
+  EXPECT_DOUBLE_EQ(e.RelativeExposure(), (1.0 / 60) * 2.0 / 16.0);
+  EXPECT_THROW(ReadExif((TempDir() / "missing.jpg").string()), Error);
+}
+
+TEST(Merge, ClippedAndNearBlackCodesGetZeroWeight) {
+  // Pixel 0: clipped in the long frame → only the short frame counts.
+  // Pixel 1: near-black in the short frame → only the long frame counts.
+  cv::Mat shortf(1, 2, CV_8UC3), longf(1, 2, CV_8UC3);
+  shortf.at<cv::Vec3b>(0, 0) = {100, 100, 100};
+  longf.at<cv::Vec3b>(0, 0) = {255, 255, 255};
+  shortf.at<cv::Vec3b>(0, 1) = {3, 3, 3};
+  longf.at<cv::Vec3b>(0, 1) = {60, 60, 60};
+  const MergeResult m = MergeBracket({shortf, longf}, {1.0, 4.0}, Linear8());
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_FLOAT_EQ(m.radiance.at<cv::Vec3f>(0, 0)[c], 100.0f / 255);
+    EXPECT_FLOAT_EQ(m.radiance.at<cv::Vec3f>(0, 1)[c], 60.0f / 255 / 4);
+  }
+  EXPECT_EQ(m.mask.at<uint8_t>(0, 0), 0);
+  // Clipped in every frame: flagged, and the shortest frame's bound returned.
+  shortf.at<cv::Vec3b>(0, 0) = {255, 255, 255};
+  const MergeResult all = MergeBracket({shortf, longf}, {1.0, 4.0}, Linear8());
+  EXPECT_EQ(all.mask.at<uint8_t>(0, 0), 255);
+  EXPECT_FLOAT_EQ(all.radiance.at<cv::Vec3f>(0, 0)[0], 1.0f);
+  EXPECT_DOUBLE_EQ(all.unreliable_fraction, 0.5);
+}
+
+TEST(Merge, RejectsMismatchedBrackets) {
+  const cv::Mat a(4, 4, CV_8UC3, cv::Scalar::all(9)), b(4, 5, CV_8UC3, cv::Scalar::all(9));
+  EXPECT_THROW(MergeBracket({a}, {1.0}, Linear8()), Error);
+  EXPECT_THROW(MergeBracket({a, b}, {1.0, 2.0}, Linear8()), Error);
+  EXPECT_THROW(MergeBracket({a, a}, {1.0}, Linear8()), Error);
+  EXPECT_THROW(MergeBracket({a, a}, {1.0, 0.0}, Linear8()), Error);
+}
+
+TEST(Response, RecoversAKnownGammaCurveUpToScale) {
+  // Radiance spanning 3 decades through f(x) = x^(1/2.2), 7 frames 1 EV apart.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-3, 0);
+  cv::Mat E(120, 160, CV_64FC3);
+  for (int y = 0; y < E.rows; ++y)
+    for (int x = 0; x < E.cols; ++x)
+      for (int c = 0; c < 3; ++c) E.at<cv::Vec3d>(y, x)[c] = std::pow(10.0, u(rng));
+  std::vector<cv::Mat> frames;
+  std::vector<double> times;
+  for (int j = 0; j < 7; ++j) {
+    const double t = std::pow(2.0, j - 3);
+    cv::Mat f(E.size(), CV_8UC3);
+    for (int y = 0; y < E.rows; ++y)
+      for (int x = 0; x < E.cols; ++x)
+        for (int c = 0; c < 3; ++c)
+          f.at<cv::Vec3b>(y, x)[c] = cv::saturate_cast<uint8_t>(255 * std::pow(std::min(1.0, E.at<cv::Vec3d>(y, x)[c] * t * 4), 1 / 2.2));
+    frames.push_back(f);
+    times.push_back(t);
+  }
+  const ResponseCurve r = RecoverResponseDebevec(frames, times);
+  for (int c = 0; c < 3; ++c) {
+    for (int z = 1; z < 256; ++z) EXPECT_GE(r.g[c][z], r.g[c][z - 1]);
+    // Ratio of linear values between two well-exposed codes matches the truth.
+    for (int z : {40, 80, 160, 220}) {
+      const double want = std::pow(z / 128.0, 2.2);
+      EXPECT_NEAR(r.Linear(c, z) / r.Linear(c, 128), want, 0.05 * want) << "code " << z;
+    }
+  }
+}
+
+TEST(Response, MemorialSequenceIsMonotoneAndFramesAgree) {
+  const std::string dir = DataPath("real/memorial_debevec");
+  if (dir.empty() || !fs::exists(dir + "/shutter_times.txt")) GTEST_SKIP() << "memorial sequence not found";
+  std::vector<std::string> paths;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".png") paths.push_back(e.path().string());
+  std::sort(paths.begin(), paths.end());
+  const std::vector<double> times = ReadTimesFile(dir + "/shutter_times.txt", paths.size());
+  std::vector<cv::Mat> frames;
+  for (const auto& p : paths) {
+    cv::Mat bgr = cv::imread(p, cv::IMREAD_COLOR), rgb;
+    ASSERT_FALSE(bgr.empty()) << p;
+    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+    frames.push_back(rgb);
+  }
+  const ResponseCurve r = RecoverResponseDebevec(frames, times);
+  for (int c = 0; c < 3; ++c)
+    for (int z = 1; z < 256; ++z) ASSERT_GE(r.g[c][z], r.g[c][z - 1]);
+  // Two neighbouring frames (1 EV apart) must give the same radiance wherever
+  // both are well exposed: the median ratio within 5 %.
+  const int a = 7, b = 8;
+  std::vector<double> ratio;
+  for (int y = 0; y < frames[a].rows; y += 2)
+    for (int x = 0; x < frames[a].cols; x += 2)
+      for (int c = 0; c < 3; ++c) {
+        const int za = frames[a].at<cv::Vec3b>(y, x)[c], zb = frames[b].at<cv::Vec3b>(y, x)[c];
+        if (za < 30 || za > 220 || zb < 30 || zb > 220) continue;
+        ratio.push_back((r.Linear(c, za) / times[a]) / (r.Linear(c, zb) / times[b]));
+      }
+  ASSERT_GT(ratio.size(), 1000u);
+  std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+  EXPECT_NEAR(ratio[ratio.size() / 2], 1.0, 0.05);
+}
+
+TEST(Raw, RealRawFileReadsThroughLibrawWithItsLevels) {
+  const std::string f = DataPath("real/raw/RAW_KODAK_DC50.KDC");
+  if (f.empty() || !fs::exists(f)) GTEST_SKIP() << "RAW sample not found";
+  const RawFrame r = ReadRaw(f);
+  EXPECT_GT(r.rgb16.cols, 100);
+  EXPECT_GT(r.rgb16.rows, 100);
+  EXPECT_GT(r.white, r.black);
+  double mx = 0;
+  cv::minMaxLoc(r.rgb16.reshape(1), nullptr, &mx);
+  EXPECT_GT(mx, 0);
+  EXPECT_THROW(ReadRaw((TempDir() / "none.kdc").string()), Error);
+}
+
+}  // namespace brdfshot

@@ -1,0 +1,50 @@
+#include "capture/raw.h"
+
+#include <libraw/libraw.h>
+
+#include <memory>
+
+#include "util/check.h"
+
+namespace brdfshot {
+
+RawFrame ReadRaw(const std::string& path, const std::array<double, 3>* wb) {
+  auto raw = std::make_unique<LibRaw>();
+  auto check = [&](int rc, const char* what) {
+    if (rc != LIBRAW_SUCCESS) throw FileError(path, std::string(what) + ": " + libraw_strerror(rc));
+  };
+  check(raw->open_file(path.c_str()), "cannot open RAW");
+  check(raw->unpack(), "cannot unpack RAW");
+  auto& p = raw->imgdata.params;
+  p.gamm[0] = p.gamm[1] = 1.0;  // linear
+  p.no_auto_bright = 1;
+  p.output_bps = 16;
+  p.output_color = 1;  // sRGB primaries, linear
+  if (wb) {
+    p.use_camera_wb = 0;
+    for (int c = 0; c < 3; ++c) p.user_mul[c] = static_cast<float>((*wb)[c]);
+    p.user_mul[3] = static_cast<float>((*wb)[1]);
+  } else {
+    p.use_camera_wb = 1;
+  }
+  check(raw->dcraw_process(), "cannot process RAW");
+  int err = 0;
+  libraw_processed_image_t* img = raw->dcraw_make_mem_image(&err);
+  if (!img) check(err, "cannot make image");
+  std::unique_ptr<libraw_processed_image_t, void (*)(libraw_processed_image_t*)> guard(img, LibRaw::dcraw_clear_mem);
+  if (img->type != LIBRAW_IMAGE_BITMAP || img->colors != 3 || img->bits != 16)
+    throw FileError(path, "libraw returned an unexpected image layout");
+  RawFrame f;
+  f.rgb16 = cv::Mat(img->height, img->width, CV_16UC3, img->data).clone();
+  const auto& color = raw->imgdata.color;
+  f.black = color.black;
+  f.white = color.maximum;
+  for (int c = 0; c < 3; ++c) f.wb[c] = wb ? (*wb)[c] : color.cam_mul[c] / std::max(1e-9f, color.cam_mul[1]);
+  f.exposure_time = raw->imgdata.other.shutter;
+  f.f_number = raw->imgdata.other.aperture;
+  f.iso = raw->imgdata.other.iso_speed;
+  f.camera = std::string(raw->imgdata.idata.make) + " " + raw->imgdata.idata.model;
+  return f;
+}
+
+}  // namespace brdfshot
