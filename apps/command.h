@@ -32,5 +32,6 @@ int RenderMain(int argc, char** argv);
 int FitMain(int argc, char** argv);
 int CompareMain(int argc, char** argv);
 int BenchBasisMain(int argc, char** argv);
+int MergeMain(int argc, char** argv);
 
 }  // namespace brdfshot

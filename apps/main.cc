@@ -12,6 +12,7 @@ namespace po = boost::program_options;
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> kCommands = {
+      {"merge", "bracketed frames (LDR + EXIF/times, or RAW) to linear HDR EXR + mask + sidecar", MergeMain},
       {"synth-db", "write the analytic stand-in materials as MERL .binary files", SynthDbMain},
       {"nbrdf-db", "write MERL's materials from their neural fits as MERL .binary files", NbrdfDbMain},
       {"render", "render one BRDF on a sphere under a probe (EXR + PNG)", RenderMain},

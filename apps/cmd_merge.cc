@@ -1,0 +1,190 @@
+// brdfshot merge: a bracketed series (LDR with EXIF or a times file, or RAW) to
+// one linear-radiance EXR, a mask of pixels no frame measured well, and a JSON
+// sidecar recording exposures, camera, response and the command line.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/photo.hpp>
+
+#include "apps/command.h"
+#include "apps/common_options.h"
+#include "capture/exposure.h"
+#include "capture/merge.h"
+#include "capture/raw.h"
+#include "capture/response.h"
+#include "util/atomic_file.h"
+#include "util/check.h"
+#include "util/image_io.h"
+#include "util/progress.h"
+
+namespace brdfshot {
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace {
+
+bool IsRaw(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), ::tolower);
+  for (const char* r : {".kdc", ".cr2", ".cr3", ".nef", ".arw", ".dng", ".raf", ".orf", ".rw2", ".pef", ".srw"})
+    if (e == r) return true;
+  return false;
+}
+
+cv::Mat ApplyOrientation(const cv::Mat& m, int orientation) {
+  cv::Mat out;
+  switch (orientation) {
+    case 2: cv::flip(m, out, 1); return out;
+    case 3: cv::rotate(m, out, cv::ROTATE_180); return out;
+    case 4: cv::flip(m, out, 0); return out;
+    case 5: cv::transpose(m, out); return out;
+    case 6: cv::rotate(m, out, cv::ROTATE_90_CLOCKWISE); return out;
+    case 7: cv::transpose(m, out); cv::rotate(out, out, cv::ROTATE_180); return out;
+    case 8: cv::rotate(m, out, cv::ROTATE_90_COUNTERCLOCKWISE); return out;
+    default: return m;
+  }
+}
+
+std::vector<std::string> ExpandInputs(const std::vector<std::string>& args) {
+  std::vector<std::string> files;
+  for (const std::string& a : args) {
+    std::error_code ec;
+    if (fs::is_directory(a, ec)) {
+      std::vector<std::string> in_dir;
+      for (const auto& e : fs::directory_iterator(a)) {
+        std::string ext = e.path().extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        if (ext == ".jpg" || ext == ".jpeg" || ext == ".png" || ext == ".tif" || ext == ".tiff" || IsRaw(e.path().string()))
+          in_dir.push_back(e.path().string());
+      }
+      std::sort(in_dir.begin(), in_dir.end());
+      files.insert(files.end(), in_dir.begin(), in_dir.end());
+    } else {
+      if (!fs::exists(a, ec)) throw FileError(a, "no such file");
+      files.push_back(a);
+    }
+  }
+  return files;
+}
+
+}  // namespace
+
+int MergeMain(int argc, char** argv) {
+  std::vector<std::string> inputs;
+  std::string times_path, response_in, response_out, out = "merged.exr", mask_out, sidecar;
+  bool align = false;
+  std::string wb_arg;
+  po::options_description desc("options");
+  desc.add_options()
+      ("input", po::value(&inputs)->multitoken(), "frames: files or a folder (positional)")
+      ("times", po::value(&times_path), "exposure times file, one per frame in input order (overrides EXIF)")
+      ("response", po::value(&response_in), "reuse a response curve (JSON) instead of recovering one")
+      ("save-response", po::value(&response_out), "write the recovered response curve (JSON)")
+      ("align", po::bool_switch(&align), "align hand-held frames by translation (median threshold bitmaps)")
+      ("wb", po::value(&wb_arg), "RAW white balance R,G,B multipliers (default: the camera's)")
+      ("mask", po::value(&mask_out), "mask PNG of unreliable pixels (default: <out>_mask.png)")
+      ("sidecar", po::value(&sidecar), "JSON sidecar (default: <out>.json)")
+      ("out,o", po::value(&out)->default_value(out), "merged linear radiance (.exr)");
+  po::positional_options_description pos;
+  pos.add("input", -1);
+  if (!ParseOptions("merge", "FRAME... | FOLDER [options]", desc, argc, argv, &pos)) return 0;
+  const std::vector<std::string> files = ExpandInputs(inputs);
+  if (files.size() < 2)
+    throw Error("merge needs at least two frames, got " + std::to_string(files.size()) +
+                (files.empty() ? "" : " ('" + files[0] + "')"));
+  const std::string stem = (fs::path(out).parent_path() / fs::path(out).stem()).string();
+  if (mask_out.empty()) mask_out = stem + "_mask.png";
+  if (sidecar.empty()) sidecar = stem + ".json";
+
+  Stopwatch sw;
+  Progress progress("reading frames", files.size(), true);
+  std::vector<cv::Mat> frames;
+  std::vector<double> exposure(files.size(), 0);
+  nlohmann::json frames_json = nlohmann::json::array();
+  std::string camera;
+  const bool raw = IsRaw(files[0]);
+  for (size_t j = 0; j < files.size(); ++j) {
+    const std::string& f = files[j];
+    if (IsRaw(f) != raw) throw FileError(f, "mixes RAW and non-RAW frames in one bracket");
+    cv::Mat rgb;
+    ExifInfo exif;
+    if (raw) {
+      std::array<double, 3> wb{};
+      const std::vector<std::string> parts = SplitList(wb_arg);
+      if (!wb_arg.empty() && parts.size() != 3) throw Error("bad --wb '" + wb_arg + "': expected R,G,B");
+      for (size_t c = 0; c < parts.size(); ++c) wb[c] = std::stod(parts[c]);
+      const RawFrame r = ReadRaw(f, wb_arg.empty() ? nullptr : &wb);
+      rgb = r.rgb16;
+      exif.exposure_time = r.exposure_time;
+      exif.f_number = r.f_number;
+      exif.iso = r.iso;
+      exif.camera = r.camera;
+      frames_json.push_back({{"file", f}, {"black", r.black}, {"white", r.white}, {"wb", r.wb}});
+    } else {
+      const cv::Mat bgr = cv::imread(f, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
+      if (bgr.empty()) throw FileError(f, "cannot decode image");
+      if (bgr.depth() != CV_8U && bgr.depth() != CV_16U) throw FileError(f, "frames must be 8- or 16-bit");
+      cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+      exif = ReadExif(f);
+      rgb = ApplyOrientation(rgb, exif.orientation);
+      frames_json.push_back({{"file", f}, {"orientation", exif.orientation}});
+    }
+    exposure[j] = exif.RelativeExposure();
+    frames_json.back()["exif_exposure"] = exposure[j];
+    if (camera.empty()) camera = exif.camera;
+    frames.push_back(rgb);
+    progress.Step();
+  }
+  if (!times_path.empty()) {
+    exposure = ReadTimesFile(times_path, files.size());
+  } else {
+    for (size_t j = 0; j < files.size(); ++j)
+      if (!(exposure[j] > 0))
+        throw FileError(files[j], "has no EXIF exposure time: pass --times FILE (one time per frame)");
+  }
+  for (size_t j = 0; j < files.size(); ++j) {
+    frames_json[j]["exposure"] = exposure[j];
+    if (frames[j].size() != frames[0].size())
+      throw FileError(files[j], "is " + std::to_string(frames[j].cols) + "x" + std::to_string(frames[j].rows) +
+                                    ", " + files[0] + " is " + std::to_string(frames[0].cols) + "x" +
+                                    std::to_string(frames[0].rows));
+  }
+  if (align) {
+    if (frames[0].depth() != CV_8U) throw Error("--align works on 8-bit frames");
+    cv::Ptr<cv::AlignMTB> mtb = cv::createAlignMTB();
+    std::vector<cv::Mat> aligned;
+    mtb->process(frames, aligned);
+    frames = aligned;
+  }
+  ResponseCurve response;
+  if (!response_in.empty()) {
+    response = ResponseCurve::FromJson(nlohmann::json::parse(ReadFileBytes(response_in), nullptr, false), response_in);
+  } else if (frames[0].depth() == CV_8U) {
+    response = RecoverResponseDebevec(frames, exposure);
+  } else {
+    response = ResponseCurve::Linear16();
+  }
+  if (!response_out.empty())
+    WriteFileAtomic(response_out, [&](std::ostream& o) { o << response.ToJson().dump(1) << "\n"; });
+  const MergeResult m = MergeBracket(frames, exposure, response);
+  WriteExr(out, m.radiance);
+  WriteFileAtomicByName(mask_out, [&](const std::string& tmp) {
+    if (!cv::imwrite(tmp, m.mask)) throw FileError(tmp, "cannot write mask");
+  });
+  std::string cmdline;
+  for (int i = 0; i < argc; ++i) cmdline += (i ? " " : "") + std::string(argv[i]);
+  const nlohmann::json side = {{"format", "brdfshot-merge-1"}, {"frames", frames_json}, {"camera", camera},
+                               {"response", response.ToJson()}, {"raw", raw}, {"aligned", align},
+                               {"unreliable_fraction", m.unreliable_fraction}, {"output", out},
+                               {"mask", mask_out}, {"command", "brdfshot " + cmdline}};
+  WriteFileAtomic(sidecar, [&](std::ostream& o) { o << side.dump(1) << "\n"; });
+  std::printf("merged %zu frames (%dx%d, %s) in %.2f s: %.2f %% of pixels unreliable\nwrote %s, %s, %s\n",
+              files.size(), frames[0].cols, frames[0].rows, raw ? "RAW" : response.kind.c_str(), sw.Seconds(),
+              100 * m.unreliable_fraction, out.c_str(), mask_out.c_str(), sidecar.c_str());
+  return 0;
+}
+
+}  // namespace brdfshot
