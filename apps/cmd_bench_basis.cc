@@ -112,13 +112,13 @@ int BenchBasisMain(int argc, char** argv) {
   db.Add(desc);
   base_quality.Add(desc);
   if (!ParseOptions("bench-basis", "[options]", desc, argc, argv)) return 0;
-  if (probe_path.empty()) probe_path = DataPath("envmaps/forest.exr", db.data);
-  if (probe_path.empty()) throw Error("no probe given and no data folder: pass --probe or set BRDFSHOT_DATA");
   const std::vector<int> spheres = ParseInts(spheres_arg, "sphere size");
   const std::vector<int> widths = ParseInts(probes_arg, "probe width");
   std::vector<std::pair<int, int>> qualities;
   for (const std::string& q : SplitList(qualities_arg)) qualities.push_back(ParseSamples(q));
   const std::pair<int, int> ref_samples = ParseSamples(ref_arg);
+  if (probe_path.empty()) probe_path = DataPath("envmaps/forest.exr", db.data);
+  if (probe_path.empty()) throw Error("no probe given and no data folder: pass --probe or set BRDFSHOT_DATA");
   MakeOutputDir(out);
   MakeOutputDir(cache);
 

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
@@ -99,6 +98,19 @@ int MergeMain(int argc, char** argv) {
   if (mask_out.empty()) mask_out = stem + "_mask.png";
   if (sidecar.empty()) sidecar = stem + ".json";
 
+  std::array<double, 3> wb{};
+  if (!wb_arg.empty()) {
+    const std::vector<std::string> parts = SplitList(wb_arg);
+    if (parts.size() != 3) throw Error("bad --wb '" + wb_arg + "': expected R,G,B");
+    for (size_t c = 0; c < 3; ++c) {
+      try {
+        wb[c] = std::stod(parts[c]);
+      } catch (const std::exception&) {
+        throw Error("bad --wb '" + wb_arg + "': expected three numbers R,G,B");
+      }
+    }
+  }
+
   Stopwatch sw;
   Progress progress("reading frames", files.size(), true);
   std::vector<cv::Mat> frames;
@@ -112,10 +124,6 @@ int MergeMain(int argc, char** argv) {
     cv::Mat rgb;
     ExifInfo exif;
     if (raw) {
-      std::array<double, 3> wb{};
-      const std::vector<std::string> parts = SplitList(wb_arg);
-      if (!wb_arg.empty() && parts.size() != 3) throw Error("bad --wb '" + wb_arg + "': expected R,G,B");
-      for (size_t c = 0; c < parts.size(); ++c) wb[c] = std::stod(parts[c]);
       const RawFrame r = ReadRaw(f, wb_arg.empty() ? nullptr : &wb);
       rgb = r.rgb16;
       exif.exposure_time = r.exposure_time;

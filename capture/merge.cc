@@ -47,6 +47,9 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
   out.radiance.create(frames[0].size(), CV_32FC3);
   out.mask = cv::Mat::zeros(frames[0].size(), CV_8U);
   const int rows = frames[0].rows, cols = frames[0].cols;
+  auto code = [type, &frames](int j, int y, int x, int c) -> int {
+    return type == CV_8UC3 ? frames[j].ptr<cv::Vec3b>(y)[x][c] : frames[j].ptr<cv::Vec3w>(y)[x][c];
+  };
   long unreliable = 0;
 #pragma omp parallel for schedule(static) reduction(+ : unreliable)
   for (int y = 0; y < rows; ++y) {
@@ -57,7 +60,7 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
       for (int c = 0; c < 3; ++c) {
         double num = 0, den = 0;
         for (int j = 0; j < N; ++j) {
-          const int z = type == CV_8UC3 ? frames[j].ptr<cv::Vec3b>(y)[x][c] : frames[j].ptr<cv::Vec3w>(y)[x][c];
+          const int z = code(j, y, x, c);
           const double w = hat[z] * times[j];
           num += w * lin[c][z] / times[j];
           den += w;
@@ -67,8 +70,7 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
           continue;
         }
         bad = true;
-        const int zs = type == CV_8UC3 ? frames[shortest].ptr<cv::Vec3b>(y)[x][c] : frames[shortest].ptr<cv::Vec3w>(y)[x][c];
-        const int zl = type == CV_8UC3 ? frames[longest].ptr<cv::Vec3b>(y)[x][c] : frames[longest].ptr<cv::Vec3w>(y)[x][c];
+        const int zs = code(shortest, y, x, c), zl = code(longest, y, x, c);
         dst[x][c] = zs >= zhi ? lin[c][zs] / static_cast<float>(times[shortest])
                               : lin[c][zl] / static_cast<float>(times[longest]);
       }

@@ -183,8 +183,8 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
         for (const DirectionalLight& l : lights_) {
           const Vec3 wi = f.ToLocal(l.direction);
           if (wi.z <= 0) continue;
-          const TablePoint pt{ToHalfDiff(wi, wo), 1.0};
-          row_local(std::vector<TablePoint>{pt}, tmp.data());
+          points.assign(1, TablePoint{ToHalfDiff(wi, wo), 1.0});
+          row_local(points, tmp.data());
           for (int c = 0; c < 3; ++c) {
             const float w = static_cast<float>(wi.z * l.power[c]);
             float* y = Y[c].row(p).data();

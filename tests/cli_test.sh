@@ -24,6 +24,17 @@ check unknown-cmd 2 "unknown command" -- "$B" frobnicate
 check bad-option 1 "see --help" -- "$B" eval --no-such-flag
 check help 0 "--probe" -- "$B" basis --help
 check bad-grid 1 "bad --grid" -- "$B" cluster --db standin --data "$DATA" --grid 9x9 -o "$T/c.json"
+# merge: one frame, missing EXIF, then a two-frame bracket with a times file.
+"$B" render --standin demo-felt $DB --probe "$PROBE" --sphere 32 -o "$T/m.exr" >/dev/null 2>&1
+cp "$T/m.png" "$T/f1.png"; cp "$T/m.png" "$T/f2.png"; printf '1/4\n1/2\n' > "$T/times.txt"
+check merge-one 1 "at least two frames" -- "$B" merge "$T/f1.png" -o "$T/merged.exr"
+check merge-noexif 1 "f1.png: has no EXIF exposure time" -- "$B" merge "$T/f1.png" "$T/f2.png" -o "$T/merged.exr"
+check merge-times 1 "times.txt: has 2 exposure times for 3 frames" -- "$B" merge "$T/f1.png" "$T/f2.png" "$T/m.png" --times "$T/times.txt" -o "$T/merged.exr"
+check merge-ok 0 "merged 2 frames" -- "$B" merge "$T/f1.png" "$T/f2.png" --times "$T/times.txt" -o "$T/merged.exr"
+[ -s "$T/merged.exr" ] && [ -s "$T/merged_mask.png" ] && [ -s "$T/merged.json" ] && pass=$((pass+1)) || { echo "FAIL merge outputs"; fail=$((fail+1)); }
+check merge-help 0 "--times" -- "$B" merge --help
+check bench-help 0 "--reference-samples" -- "$B" bench-basis --help
+check bench-bad 1 "bad sample setting '24-48'" -- "$B" bench-basis --qualities 24-48
 # The pipeline on one capture.
 check render 0 "wrote" -- "$B" render --standin demo-steel $DB --probe "$PROBE" --sphere 48 -o "$T/photo.exr"
 check basis 0 "wrote" -- "$B" basis $DB --probe "$PROBE" --sphere 48 -o "$T/b.bsbi"
