@@ -56,6 +56,7 @@ void QualityArgs::Add(po::options_description& d) {
       ("phi-samples", po::value(&q.phi_samples)->default_value(q.phi_samples), "half-vector samples along phi_h")
       ("probe-width", po::value(&q.probe_width)->default_value(q.probe_width), "resample the probe to this width first (0: as given)")
       ("level-step", po::value(&q.level_step_deg)->default_value(q.level_step_deg), "theta_o spacing (deg) of the pixel levels sharing table reads")
+      ("level-substeps", po::value(&q.level_substeps)->default_value(q.level_substeps), "pixels snap to level-step/level-substeps in theta_o")
       ("brdf-supersample", po::value(&q.brdf_supersample)->default_value(q.brdf_supersample), "table reads per sample cell along sqrt(theta_h) (0: auto)");
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 #include "util/check.h"
@@ -127,6 +128,31 @@ inline double FastAtan2(double y, double x) {
   if (x < 0) r = kPi - r;
   return y < 0 ? -r : r;
 }
+// The same polynomial in float and without branches, so that loops over
+// arrays of directions vectorise.
+inline float FastAtan2f(float y, float x) {
+  const float ax = std::abs(x), ay = std::abs(y);
+  const float mx = std::max(ax, ay), mn = std::min(ax, ay);
+  const float z = mn / std::max(mx, 1e-30f), z2 = z * z;
+  float r = z * (0.99997726f + z2 * (-0.33262347f + z2 * (0.19354346f + z2 * (-0.11643287f +
+                 z2 * (0.05265332f + z2 * (-0.01172120f))))));
+  r = ay > ax ? 1.57079633f - r : r;
+  r = x < 0 ? 3.14159265f - r : r;
+  return std::copysign(r, y);
+}
+
+// log2 to ~1e-3 from the float's exponent and a cubic in its mantissa: it only
+// picks a filter width, where 1e-3 of a level is invisible.
+inline float FastLog2(float x) {
+  uint32_t bits;
+  std::memcpy(&bits, &x, 4);
+  const float e = static_cast<float>(static_cast<int>(bits >> 23) - 127);
+  bits = (bits & 0x7fffffu) | 0x3f800000u;
+  float m;
+  std::memcpy(&m, &bits, 4);
+  const float t = m - 1;
+  return e + t * (1.4425449f + t * (-0.7181452f + t * 0.2750526f));
+}
 }  // namespace
 
 void PrefilteredProbe::Angles(const Vec3& d, double* u, double* v) {
@@ -156,6 +182,42 @@ cv::Vec3f PrefilteredProbe::LookupLevel(const Vec3& d, int level) const {
   double u, v;
   Angles(d, &u, &v);
   return Bilinear(level, u, v);
+}
+
+void PrefilteredProbe::Trilinear(float u, float v, float lod, float* rgb) const {
+  cv::Vec3f c;
+  const int top = levels() - 1;
+  if (lod <= 0) {
+    c = Bilinear(0, u, v);
+  } else if (lod >= top) {
+    c = Bilinear(top, u, v);
+  } else {
+    const int l0 = static_cast<int>(lod);
+    const float t = lod - l0;
+    c = Bilinear(l0, u, v) * (1 - t) + Bilinear(l0 + 1, u, v) * t;
+  }
+  rgb[0] = c[0], rgb[1] = c[1], rgb[2] = c[2];
+}
+
+void PrefilteredProbe::LookupMany(int n, const float* d, const float* omega, float* scratch, float* rgb) const {
+  float* u = scratch;
+  float* v = scratch + n;
+  float* lod = scratch + 2 * n;
+  const float inv_texel = static_cast<float>(1 / texel0_omega_);
+  for (int i = 0; i < n; ++i) {  // vectorised: no branches, no calls
+    const float x = d[3 * i], y = d[3 * i + 1], z = d[3 * i + 2];
+    const float phi = FastAtan2f(-x, z);
+    u[i] = (phi < 0 ? phi + 6.28318531f : phi) * 0.159154943f;
+    v[i] = FastAtan2f(std::sqrt(x * x + z * z), y) * 0.318309886f;
+    lod[i] = 0.5f * FastLog2(std::max(omega[i], 1e-30f) * inv_texel);
+  }
+  for (int i = 0; i < n; ++i) {
+    if (omega[i] <= 0) {
+      rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0;
+      continue;
+    }
+    Trilinear(u[i], v[i], lod[i], rgb + 3 * i);
+  }
 }
 
 cv::Vec3f PrefilteredProbe::Lookup(const Vec3& d, double omega) const {

@@ -56,8 +56,16 @@ class PrefilteredProbe {
   cv::Vec3f LookupLevel(const Vec3& dir, int level) const;  // bilinear in one level
   int levels() const { return static_cast<int>(levels_.size()); }
 
+  // Lookup for n directions at once (the basis-image inner loop): the angle and
+  // filter-width math runs over plain float arrays, which the compiler turns
+  // into SIMD, and only the texel fetches stay scalar. `dir_xyz` and `rgb` are
+  // n×3 interleaved; `omega` ≤ 0 marks an unused entry (its rgb is 0).
+  // `scratch` must hold 3n floats. Same result as Lookup to float precision.
+  void LookupMany(int n, const float* dir_xyz, const float* omega, float* scratch, float* rgb) const;
+
  private:
   static void Angles(const Vec3& dir, double* u, double* v);  // lat-long coords in [0,1]²
+  void Trilinear(float u, float v, float lod, float* rgb) const;
   cv::Vec3f Bilinear(int level, double u, double v) const;
   std::vector<cv::Mat> levels_;  // CV_32FC3, level 0 is the probe
   double texel0_omega_;          // mean texel solid angle at level 0

@@ -11,6 +11,7 @@ std::string RenderQuality::Describe() const {
   return "theta=" + std::to_string(theta_samples) + ",phi=" + std::to_string(phi_samples) +
          ",probe=" + std::to_string(probe_width) + ",lights=" + std::to_string(max_lights) +
          ",level_step=" + std::to_string(level_step_deg) +
+         ",substeps=" + std::to_string(level_substeps) +
          ",brdf_supersample=" + std::to_string(brdf_supersample);
 }
 
@@ -47,7 +48,8 @@ std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights,
 
 TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLongProbe& probe_in,
                                            const MerlGrid& grid, const RenderQuality& q) {
-  BRDFSHOT_CHECK(q.theta_samples > 0 && q.phi_samples > 0 && q.level_step_deg > 0 && q.brdf_supersample >= 0);
+  BRDFSHOT_CHECK(q.theta_samples > 0 && q.phi_samples > 0 && q.level_step_deg > 0 && q.level_substeps > 0 &&
+                 q.brdf_supersample >= 0);
   BRDFSHOT_CHECK(g.normal.size() == g.size() && g.view.size() == g.size());
   TransportOperator t;
   t.grid_ = grid;
@@ -71,18 +73,16 @@ TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLong
   }
 
   const double step = q.level_step_deg * kPi / 180;
-  const int n_levels = static_cast<int>(std::ceil((kPi / 2) / step)) + 1;
-  t.level_pixels_.resize(n_levels);
+  t.n_levels_ = static_cast<int>(std::ceil((kPi / 2) / step)) + 1;
+  const int K = q.level_substeps;
+  t.sublevel_pixels_.resize((t.n_levels_ - 1) * K + 1);
   t.normal_ = g.normal;
   t.view_ = g.view;
   for (size_t p = 0; p < g.size(); ++p) {
     const double c = Dot(g.normal[p], g.view[p]);
     if (c <= 0) continue;  // facing away: the pixel stays black
-    const double x = std::acos(std::min(1.0, c)) / step;
-    const int l0 = std::min(n_levels - 2, static_cast<int>(x));
-    const float w1 = static_cast<float>(std::clamp(x - l0, 0.0, 1.0));
-    t.level_pixels_[l0].push_back({static_cast<uint32_t>(p), 1 - w1});
-    if (w1 > 0) t.level_pixels_[l0 + 1].push_back({static_cast<uint32_t>(p), w1});
+    const long j = std::lround(std::acos(std::min(1.0, c)) / step * K);
+    t.sublevel_pixels_[std::min<long>(j, t.sublevel_pixels_.size() - 1)].push_back(static_cast<uint32_t>(p));
   }
   return t;
 }
@@ -92,85 +92,128 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
   std::array<MatrixXfR, 3> Y;
   for (auto& y : Y) y.setZero(pixels(), n);
   const double step = quality_.level_step_deg * kPi / 180;
-  const int nt = quality_.theta_samples, np = quality_.phi_samples;
+  const int nt = quality_.theta_samples, np = quality_.phi_samples, K = quality_.level_substeps;
+  const Eigen::Index S_all = static_cast<Eigen::Index>(samples_.size());
   // Table reads per cell: ~1 per MERL θ_h bin the cell spans (2 changed no
   // error by more than 0.1 % in bench-basis), 2 across φ_h.
   const int su = quality_.brdf_supersample > 0 ? quality_.brdf_supersample
                                                : std::max(1, (grid_.n_th + nt - 1) / nt);
   const int sp = su > 1 ? 2 : 1;
+  // Levels are processed in chunks so that only chunk + 1 matrices M live at
+  // once; the last level of a chunk is the first of the next.
+  constexpr int kChunk = 8;
+  std::vector<MatrixXfR> M(kChunk + 1);
+  const int n_sub = static_cast<int>(sublevel_pixels_.size());
 #pragma omp parallel
   {
     RowFn row_local = row;  // per thread: the functor may keep scratch space
     std::vector<float> tmp(n);
-    std::vector<int> active;
     std::vector<TablePoint> points;
-    // Even levels, then odd ones: a pixel lives in two adjacent levels, so no
-    // two threads ever add into the same row of Y at once.
-    for (int parity = 0; parity < 2; ++parity) {
-#pragma omp for schedule(dynamic, 1)
-      for (int l = parity; l < levels(); l += 2) {
-        const std::vector<LevelPixel>& px = level_pixels_[l];
-        if (px.empty()) continue;
-        const double tl = std::min(kPi / 2, l * step);
+    std::vector<int> active;
+    std::vector<float> hs, dir, omega, weight, scratch, rgb;
+    for (int l0 = 0; l0 < n_levels_ - 1; l0 += kChunk) {
+      const int l1 = std::min(n_levels_ - 1, l0 + kChunk);  // levels l0..l1 inclusive
+      const int first_new = l0 == 0 ? 0 : 1;
+#pragma omp single
+      {
+        if (l0 > 0) std::swap(M[0], M[kChunk]);
+        for (int l = first_new; l <= l1 - l0; ++l) M[l].resize(S_all, n);
+      }
+      // M per level: the table averaged over each sample's cell, weighted by
+      // cos θ_i dω_i (weights normalised, so a cell cut by the horizon stays
+      // bounded); rows of samples below the horizon are zero.
+#pragma omp for schedule(dynamic, 32)
+      for (long r = first_new * S_all; r < (l1 - l0 + 1) * S_all; ++r) {
+        const int l = static_cast<int>(r / S_all);
+        const Sample& smp = samples_[r % S_all];
+        const double tl = std::min(kPi / 2, (l0 + l) * step);
         const Vec3 wo_l(std::sin(tl), 0, std::cos(tl));
-        // Samples that can reach above the horizon for some pixel of the level
-        // (their exact θ_o is within a step): the rest would be all zeros.
+        points.clear();
+        double wsum = 0;
+        for (int i = 0; i < su; ++i) {
+          const double u = (smp.a + (i + 0.5) / su) / nt, th = u * u * kPi / 2;
+          const double u0 = (smp.a + double(i) / su) / nt, u1 = (smp.a + double(i + 1) / su) / nt;
+          const double dwh = std::cos(u0 * u0 * kPi / 2) - std::cos(u1 * u1 * kPi / 2);  // ∝ sub-cell dω_h
+          for (int j = 0; j < sp; ++j) {
+            const double ph = 2 * kPi * (smp.b + (j + 0.5) / sp) / np;
+            const Vec3 h(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+            const double cd = Dot(wo_l, h);
+            if (cd <= 0) continue;
+            const Vec3 wi = 2 * cd * h - wo_l;
+            if (wi.z <= 0) continue;
+            points.push_back({ToHalfDiff(wi, wo_l), wi.z * cd * dwh});
+            wsum += points.back().weight;
+          }
+        }
+        for (TablePoint& pt : points) pt.weight /= wsum;
+        row_local(points, M[l].row(r % S_all).data());
+      }
+      // Sub-levels of this chunk (the very last level belongs to the last chunk).
+      const int j_end = l1 == n_levels_ - 1 ? n_sub : l1 * K;
+#pragma omp for schedule(dynamic, 1)
+      for (int j = l0 * K; j < j_end; ++j) {
+        const std::vector<uint32_t>& px = sublevel_pixels_[j];
+        if (px.empty()) continue;
+        const int l = std::min(j / K, n_levels_ - 2);
+        const float f = static_cast<float>(j - l * K) / K;
+        const MatrixXfR& Ma = M[l - l0];
+        const MatrixXfR& Mb = M[l - l0 + 1];
+        // Samples that can reach above the horizon for some pixel of the
+        // sub-level (θ_o within a step): the rest would be all zeros.
+        const double tj = std::min(kPi / 2, j * step / K);
+        const Vec3 wo_j(std::sin(tj), 0, std::cos(tj));
         active.clear();
-        for (int s = 0; s < static_cast<int>(samples_.size()); ++s) {
+        for (int s = 0; s < S_all; ++s) {
           const Vec3& h = samples_[s].h;
-          const double cd = Dot(wo_l, h);
-          if (cd <= 0 || 2 * cd * h.z - wo_l.z <= -2 * step) continue;
+          const double cd = Dot(wo_j, h);
+          if (cd <= 0 || 2 * cd * h.z - wo_j.z <= -2 * step) continue;
           active.push_back(s);
         }
         const Eigen::Index S = static_cast<Eigen::Index>(active.size());
         if (S == 0) continue;
-        // M: the table averaged over each sample's cell, weighted by cosθ_i dω_i
-        // (weights normalised, so a cell cut by the horizon stays bounded).
-        MatrixXfR M(S, n);
+        MatrixXfR Mj(S, n);
+        for (Eigen::Index k = 0; k < S; ++k) Mj.row(k) = (1 - f) * Ma.row(active[k]) + f * Mb.row(active[k]);
+        // Active samples as float arrays, for the vectorised loop below.
+        hs.resize(4 * S);
         for (Eigen::Index k = 0; k < S; ++k) {
           const Sample& smp = samples_[active[k]];
-          points.clear();
-          double wsum = 0;
-          for (int i = 0; i < su; ++i) {
-            const double u = (smp.a + (i + 0.5) / su) / nt, th = u * u * kPi / 2;
-            const double u0 = (smp.a + double(i) / su) / nt, u1 = (smp.a + double(i + 1) / su) / nt;
-            const double dwh = std::cos(u0 * u0 * kPi / 2) - std::cos(u1 * u1 * kPi / 2);  // ∝ sub-cell dω_h
-            for (int j = 0; j < sp; ++j) {
-              const double ph = 2 * kPi * (smp.b + (j + 0.5) / sp) / np;
-              const Vec3 h(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
-              const double cd = Dot(wo_l, h);
-              if (cd <= 0) continue;
-              const Vec3 wi = 2 * cd * h - wo_l;
-              if (wi.z <= 0) continue;
-              points.push_back({ToHalfDiff(wi, wo_l), wi.z * cd * dwh});
-              wsum += points.back().weight;
-            }
-          }
-          for (TablePoint& pt : points) pt.weight /= wsum;
-          row_local(points, M.row(k).data());
+          hs[k] = static_cast<float>(smp.h.x), hs[S + k] = static_cast<float>(smp.h.y);
+          hs[2 * S + k] = static_cast<float>(smp.h.z), hs[3 * S + k] = static_cast<float>(4 * smp.dwh);
         }
+        const float *hx = hs.data(), *hy = hx + S, *hz = hy + S, *dw4 = hz + S;
+        dir.resize(3 * S), omega.resize(S), weight.resize(S), scratch.resize(3 * S), rgb.resize(3 * S);
         // A: each pixel's lighting per sample, channel-major rows.
         const Eigen::Index P = static_cast<Eigen::Index>(px.size());
-        MatrixXfR A = MatrixXfR::Zero(3 * P, S);
+        MatrixXfR A(3 * P, S);
         for (Eigen::Index i = 0; i < P; ++i) {
-          const size_t p = px[i].pixel;
-          const Frame f = Frame::FromZX(normal_[p], view_[p]);
-          const Vec3 wo = f.ToLocal(view_[p]);
-          for (Eigen::Index k = 0; k < S; ++k) {
-            const Sample& smp = samples_[active[k]];
-            const double cd = Dot(wo, smp.h);
-            if (cd <= 0) continue;
-            const Vec3 wi = 2 * cd * smp.h - wo;
-            if (wi.z <= 0) continue;
-            const double domega = 4 * cd * smp.dwh;
-            const cv::Vec3f L = probe_->Lookup(f.FromLocal(wi), domega);
-            const double w = px[i].weight * wi.z * domega;
-            for (int c = 0; c < 3; ++c) A(c * P + i, k) = static_cast<float>(w * L[c]);
+          const size_t p = px[i];
+          const Frame fr = Frame::FromZX(normal_[p], view_[p]);
+          const Vec3 wo_d = fr.ToLocal(view_[p]);
+          const float wox = static_cast<float>(wo_d.x), woy = static_cast<float>(wo_d.y),
+                      woz = static_cast<float>(wo_d.z);
+          float F[9];  // local → probe frame, row-major
+          for (int r = 0; r < 3; ++r)
+            F[3 * r] = static_cast<float>(fr.x[r]), F[3 * r + 1] = static_cast<float>(fr.y[r]),
+                  F[3 * r + 2] = static_cast<float>(fr.z[r]);
+          for (Eigen::Index k = 0; k < S; ++k) {  // vectorised
+            const float cd = wox * hx[k] + woy * hy[k] + woz * hz[k];
+            const float wx = 2 * cd * hx[k] - wox, wy = 2 * cd * hy[k] - woy, wz = 2 * cd * hz[k] - woz;
+            const bool ok = cd > 0 && wz > 0;
+            dir[3 * k] = F[0] * wx + F[1] * wy + F[2] * wz;
+            dir[3 * k + 1] = F[3] * wx + F[4] * wy + F[5] * wz;
+            dir[3 * k + 2] = F[6] * wx + F[7] * wy + F[8] * wz;
+            omega[k] = ok ? cd * dw4[k] : 0.0f;  // dω_i = 4 (ω_o·h) dω_h
+            weight[k] = ok ? wz * omega[k] : 0.0f;
+          }
+          probe_->LookupMany(static_cast<int>(S), dir.data(), omega.data(), scratch.data(), rgb.data());
+          for (int c = 0; c < 3; ++c) {
+            float* a_row = A.row(c * P + i).data();
+            for (Eigen::Index k = 0; k < S; ++k) a_row[k] = weight[k] * rgb[3 * k + c];
           }
         }
-        const MatrixXfR AM = A * M;
+        const MatrixXfR AM = A * Mj;
         for (Eigen::Index i = 0; i < P; ++i)
-          for (int c = 0; c < 3; ++c) Y[c].row(px[i].pixel) += AM.row(c * P + i);
+          for (int c = 0; c < 3; ++c) Y[c].row(px[i]) = AM.row(c * P + i);
       }
     }
     // Suns: exact per pixel, the table read at the pixel's own (ω_i, ω_o).

@@ -52,7 +52,8 @@ struct RenderQuality {
   int probe_width = 512;   // probe box-resampled to this width first (0 = as given)
   int max_lights = 64;     // texels split off as directional lights (0 = none)
   double light_share = 0.002;  // ...if each holds at least this share of the power
-  double level_step_deg = 1.0;   // θ_o spacing of the levels pixels interpolate between
+  double level_step_deg = 1.0;   // θ_o spacing of the levels whose table reads are computed
+  int level_substeps = 8;        // pixels snap to step/substeps, M linear in between
   int brdf_supersample = 0;      // table reads per sample cell along √θ_h (0: auto, ~1 per bin)
   std::string Describe() const;
 };
@@ -71,7 +72,7 @@ class TransportOperator {
 
   size_t pixels() const { return normal_.size(); }
   const MerlGrid& grid() const { return grid_; }
-  int levels() const { return static_cast<int>(level_pixels_.size()); }
+  int levels() const { return n_levels_; }
   const std::vector<DirectionalLight>& lights() const { return lights_; }
 
   // Y_c = T_c B for c = R, G, B light channels: each pixels × B.cols().
@@ -97,11 +98,9 @@ class TransportOperator {
   MerlGrid grid_;
   RenderQuality quality_;
   std::vector<Vec3> normal_, view_;
-  struct LevelPixel {
-    uint32_t pixel;
-    float weight;  // linear in θ_o between this level and its neighbour
-  };
-  std::vector<std::vector<LevelPixel>> level_pixels_;  // level l at θ_o = l · step
+  int n_levels_ = 0;  // level l at θ_o = l · step, the last at or past 90°
+  // Pixels of sub-level j, at θ_o = j · step / substeps (each pixel in one).
+  std::vector<std::vector<uint32_t>> sublevel_pixels_;
   std::vector<Sample> samples_;
   std::vector<DirectionalLight> lights_;
   std::shared_ptr<const PrefilteredProbe> probe_;  // the probe without its suns
