@@ -11,7 +11,9 @@
 #include "apps/command.h"
 #include "apps/common_options.h"
 #include "capture/exposure.h"
+#include "capture/align.h"
 #include "capture/merge.h"
+#include "capture/orientation.h"
 #include "capture/raw.h"
 #include "capture/response.h"
 #include "util/atomic_file.h"
@@ -31,20 +33,6 @@ bool IsRaw(const std::string& path) {
   for (const char* r : {".kdc", ".cr2", ".cr3", ".nef", ".arw", ".dng", ".raf", ".orf", ".rw2", ".pef", ".srw"})
     if (e == r) return true;
   return false;
-}
-
-cv::Mat ApplyOrientation(const cv::Mat& m, int orientation) {
-  cv::Mat out;
-  switch (orientation) {
-    case 2: cv::flip(m, out, 1); return out;
-    case 3: cv::rotate(m, out, cv::ROTATE_180); return out;
-    case 4: cv::flip(m, out, 0); return out;
-    case 5: cv::transpose(m, out); return out;
-    case 6: cv::rotate(m, out, cv::ROTATE_90_CLOCKWISE); return out;
-    case 7: cv::transpose(m, out); cv::rotate(out, out, cv::ROTATE_180); return out;
-    case 8: cv::rotate(m, out, cv::ROTATE_90_COUNTERCLOCKWISE); return out;
-    default: return m;
-  }
 }
 
 std::vector<std::string> ExpandInputs(const std::vector<std::string>& args) {
@@ -137,7 +125,7 @@ int MergeMain(int argc, char** argv) {
       if (bgr.depth() != CV_8U && bgr.depth() != CV_16U) throw FileError(f, "frames must be 8- or 16-bit");
       cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
       exif = ReadExif(f);
-      rgb = ApplyOrientation(rgb, exif.orientation);
+      rgb = ApplyExifOrientation(rgb, exif.orientation);
       frames_json.push_back({{"file", f}, {"orientation", exif.orientation}});
     }
     exposure[j] = exif.RelativeExposure();
@@ -161,11 +149,9 @@ int MergeMain(int argc, char** argv) {
                                     std::to_string(frames[0].rows));
   }
   if (align) {
-    if (frames[0].depth() != CV_8U) throw Error("--align works on 8-bit frames");
-    cv::Ptr<cv::AlignMTB> mtb = cv::createAlignMTB();
-    std::vector<cv::Mat> aligned;
-    mtb->process(frames, aligned);
-    frames = aligned;
+    AlignedBracket a = AlignBracket(frames);
+    for (size_t j = 0; j < files.size(); ++j) frames_json[j]["shift"] = {a.shifts[j].x, a.shifts[j].y};
+    frames = std::move(a.frames);
   }
   ResponseCurve response;
   if (!response_in.empty()) {

@@ -20,6 +20,7 @@ const std::vector<Command>& Commands() {
       {"cluster", "class model of the database: SVD + GMM, MDS picture (paper sec. 3)", ClusterMain},
       {"fit", "fit a photo: class-wise regularised solve, BRDF + previews", FitMain},
       {"compare", "relative RMSE of one linear image against a reference", CompareMain},
+      {"bench-merge", "HDR merge against ground truth, beside OpenCV's Debevec and Robertson", BenchMergeMain},
       {"bench-basis", "basis images: speed against error vs a cached converged reference", BenchBasisMain},
       {"eval", "leave-one-out evaluation against least squares, the paper and the oracle", EvalMain},
   };

@@ -7,8 +7,9 @@
 
 namespace brdfshot {
 
-MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
-                         const ResponseCurve& response, const MergeOptions& opt) {
+namespace {
+
+void CheckBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times) {
   if (frames.size() < 2) throw Error("a bracket needs at least two frames, got " + std::to_string(frames.size()));
   if (times.size() != frames.size())
     throw Error(std::to_string(frames.size()) + " frames but " + std::to_string(times.size()) + " exposure times");
@@ -22,21 +23,123 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
     if (frames[j].type() != type) throw Error("frame " + std::to_string(j) + " has another bit depth than frame 0");
     if (!(times[j] > 0)) throw Error("exposure of frame " + std::to_string(j) + " is not positive");
   }
-  const int levels = type == CV_8UC3 ? 256 : 65536;
-  if (response.levels != levels)
-    throw Error("response curve has " + std::to_string(response.levels) + " codes, frames have " + std::to_string(levels));
-  const int zlo = static_cast<int>(std::ceil(opt.low * (levels - 1)));
-  const int zhi = static_cast<int>(std::floor(opt.high * (levels - 1)));
-  // Per-code tables: linear value and hat weight (0 outside (zlo, zhi)).
-  std::array<std::vector<float>, 3> lin;
-  std::vector<float> hat(levels);
-  const double mid = 0.5 * (zlo + zhi);
-  for (int z = 0; z < levels; ++z)
-    hat[z] = z <= zlo || z >= zhi ? 0.0f : static_cast<float>(1 - std::abs(z - mid) / (mid - zlo));
-  for (int c = 0; c < 3; ++c) {
-    lin[c].resize(levels);
-    for (int z = 0; z < levels; ++z) lin[c][z] = static_cast<float>(response.Linear(c, z));
+}
+
+// Per-code tables of one bracket's codes.
+struct CodeTables {
+  int levels, zlo, zhi;
+  std::array<std::vector<float>, 3> lin;  // linear value of each code
+  std::array<double, 3> sat;              // linear value at clipping
+  std::vector<float> taper;               // 0 outside (zlo, zhi), ramps to 1 over 10 % of the range
+  // Variance of x = lin/sat of code z from rounding to a code step.
+  double QuantVar(int c, int z) const {
+    const double dx = (lin[c][std::min(levels - 1, z + 1)] - lin[c][std::max(0, z - 1)]) / (2 * sat[c]);
+    return dx * dx / 12;
   }
+};
+
+CodeTables MakeTables(int type, const ResponseCurve& response, const MergeOptions& opt) {
+  CodeTables t;
+  t.levels = type == CV_8UC3 ? 256 : 65536;
+  if (response.levels != t.levels)
+    throw Error("response curve has " + std::to_string(response.levels) + " codes, frames have " +
+                std::to_string(t.levels));
+  t.zlo = static_cast<int>(std::ceil(opt.low * (t.levels - 1)));
+  t.zhi = static_cast<int>(std::floor(opt.high * (t.levels - 1)));
+  const double ramp = 0.1 * (t.zhi - t.zlo);
+  t.taper.assign(t.levels, 0.0f);
+  for (int z = t.zlo + 1; z < t.zhi; ++z)
+    t.taper[z] = static_cast<float>(std::min({1.0, (z - t.zlo) / ramp, (t.zhi - z) / ramp}));
+  for (int c = 0; c < 3; ++c) {
+    t.lin[c].resize(t.levels);
+    for (int z = 0; z < t.levels; ++z) t.lin[c][z] = static_cast<float>(response.Linear(c, z));
+    t.sat[c] = std::max(1e-30, static_cast<double>(t.lin[c][t.zhi]));
+  }
+  return t;
+}
+
+int Code(const cv::Mat& f, int y, int x, int c) {
+  return f.type() == CV_8UC3 ? f.ptr<cv::Vec3b>(y)[x][c] : f.ptr<cv::Vec3w>(y)[x][c];
+}
+
+}  // namespace
+
+NoiseModel EstimateNoise(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
+                         const ResponseCurve& response, const MergeOptions& opt) {
+  CheckBracket(frames, times);
+  const CodeTables T = MakeTables(frames[0].type(), response, opt);
+  std::vector<int> order(frames.size());
+  for (size_t j = 0; j < order.size(); ++j) order[j] = static_cast<int>(j);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return times[a] < times[b]; });
+  // Rows: [x_j/t_j² + x_k/t_k², 1/t_j² + 1/t_k²] · (shot, read) = d² − quantisation.
+  struct Row {
+    double a, b, y;
+  };
+  std::vector<Row> rows;
+  const int step = std::max(1, static_cast<int>(std::sqrt(frames[0].total() / 20000.0)));
+  for (size_t p = 0; p + 1 < order.size(); ++p) {
+    const int j = order[p], k = order[p + 1];
+    const double tj = times[j], tk = times[k];
+    for (int y = 0; y < frames[0].rows; y += step)
+      for (int x = 0; x < frames[0].cols; x += step)
+        for (int c = 0; c < 3; ++c) {
+          const int zj = Code(frames[j], y, x, c), zk = Code(frames[k], y, x, c);
+          if (T.taper[zj] < 1 || T.taper[zk] < 1) continue;
+          const double xj = T.lin[c][zj] / T.sat[c], xk = T.lin[c][zk] / T.sat[c];
+          const double d = xj / tj - xk / tk;
+          rows.push_back({xj / (tj * tj) + xk / (tk * tk), 1 / (tj * tj) + 1 / (tk * tk),
+                          d * d - T.QuantVar(c, zj) / (tj * tj) - T.QuantVar(c, zk) / (tk * tk)});
+        }
+  }
+  if (rows.size() < 100) return opt.noise;
+  std::sort(rows.begin(), rows.end(), [](const Row& p, const Row& q) { return p.y < q.y; });
+  rows.resize(rows.size() * 98 / 100);
+  // 2×2 normal equations in double, each row scaled by 1/b (the terms span
+  // decades of t²; unscaled, the longest exposures would decide everything).
+  double aa = 0, ab = 0, bb = 0, ay = 0, by = 0;
+  for (const Row& r : rows) {
+    const double s = 1 / r.b, a = r.a * s, b = 1.0, yv = r.y * s;
+    aa += a * a, ab += a * b, bb += b * b, ay += a * yv, by += b * yv;
+  }
+  const double det = aa * bb - ab * ab;
+  NoiseModel m = opt.noise;
+  if (std::abs(det) > 1e-12 * aa * bb) {
+    m.shot = std::max(0.0, (ay * bb - ab * by) / det);
+    m.read = std::max(0.0, (aa * by - ab * ay) / det);
+  }
+  // A perfectly clean bracket (synthetic, no noise) leaves only quantisation:
+  // keep a floor so the weights stay finite.
+  m.shot = std::max(m.shot, 1e-7);
+  m.read = std::max(m.read, 1e-10);
+  return m;
+}
+
+MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
+                         const ResponseCurve& response, const MergeOptions& opt) {
+  CheckBracket(frames, times);
+  const int type = frames[0].type();
+  const CodeTables T = MakeTables(type, response, opt);
+  const int levels = T.levels, zlo = T.zlo, zhi = T.zhi;
+  const auto& lin = T.lin;
+  const NoiseModel noise =
+      opt.weights == MergeWeights::kNoise && opt.estimate_noise ? EstimateNoise(frames, times, response, opt) : opt.noise;
+  // Weight of a frame's estimate lin(z)/t, up to the power of t.
+  std::array<std::vector<float>, 3> wz;
+  const double mid = 0.5 * (zlo + zhi);
+  for (int c = 0; c < 3; ++c) {
+    wz[c].assign(levels, 0.0f);
+    for (int z = zlo + 1; z < zhi; ++z) {
+      double w = T.taper[z];
+      if (opt.weights == MergeWeights::kHat) {
+        w = 1 - std::abs(z - mid) / (mid - zlo);
+      } else if (opt.weights == MergeWeights::kNoise) {
+        const double x = lin[c][z] / T.sat[c];
+        w = T.taper[z] / ((noise.shot * x + noise.read + T.QuantVar(c, z)) * T.sat[c] * T.sat[c]);
+      }
+      wz[c][z] = static_cast<float>(w);
+    }
+  }
+  const int t_power = opt.weights == MergeWeights::kNoise ? 2 : 1;
   const int N = static_cast<int>(frames.size());
   std::vector<int> order(N);
   for (int j = 0; j < N; ++j) order[j] = j;
@@ -47,9 +150,7 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
   out.radiance.create(frames[0].size(), CV_32FC3);
   out.mask = cv::Mat::zeros(frames[0].size(), CV_8U);
   const int rows = frames[0].rows, cols = frames[0].cols;
-  auto code = [type, &frames](int j, int y, int x, int c) -> int {
-    return type == CV_8UC3 ? frames[j].ptr<cv::Vec3b>(y)[x][c] : frames[j].ptr<cv::Vec3w>(y)[x][c];
-  };
+  auto code = [&frames](int j, int y, int x, int c) { return Code(frames[j], y, x, c); };
   long unreliable = 0;
 #pragma omp parallel for schedule(static) reduction(+ : unreliable)
   for (int y = 0; y < rows; ++y) {
@@ -61,7 +162,7 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
         double num = 0, den = 0;
         for (int j = 0; j < N; ++j) {
           const int z = code(j, y, x, c);
-          const double w = hat[z] * times[j];
+          const double w = wz[c][z] * (t_power == 2 ? times[j] * times[j] : times[j]);
           num += w * lin[c][z] / times[j];
           den += w;
         }
@@ -79,6 +180,48 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
   }
   out.unreliable_fraction = static_cast<double>(unreliable) / (static_cast<double>(rows) * cols);
   return out;
+}
+
+}  // namespace brdfshot
+
+namespace brdfshot {
+
+ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vector<double>& times, int iterations,
+                              int pixels) {
+  ResponseCurve r = RecoverResponseDebevec(frames, times);
+  if (iterations <= 0) return r;
+  // A regular grid of the frames: the fixed point needs many pixels per code,
+  // not every pixel.
+  const int step = std::max(1, static_cast<int>(std::sqrt(frames[0].total() / static_cast<double>(pixels))));
+  std::vector<cv::Mat> sub;
+  for (const cv::Mat& f : frames) {
+    cv::Mat s(f.rows / step, f.cols / step, f.type());
+    for (int y = 0; y < s.rows; ++y)
+      for (int x = 0; x < s.cols; ++x) s.at<cv::Vec3b>(y, x) = f.at<cv::Vec3b>(y * step, x * step);
+    sub.push_back(s);
+  }
+  MergeOptions opt;
+  for (int it = 0; it < iterations; ++it) {
+    const MergeResult m = MergeBracket(sub, times, r, opt);
+    for (int c = 0; c < 3; ++c) {
+      std::vector<double> sum(256, 0.0), count(256, 0.0);
+      for (size_t j = 0; j < sub.size(); ++j)
+        for (int y = 0; y < sub[j].rows; ++y)
+          for (int x = 0; x < sub[j].cols; ++x) {
+            if (m.mask.at<uint8_t>(y, x)) continue;
+            const int z = sub[j].at<cv::Vec3b>(y, x)[c];
+            sum[z] += m.radiance.at<cv::Vec3f>(y, x)[c] * times[j];
+            count[z] += 1;
+          }
+      std::vector<double>& g = r.g[c];
+      for (int z = 1; z < 255; ++z)
+        if (count[z] >= 10 && sum[z] > 0) g[z] = std::log(sum[z] / count[z]);
+      const double g128 = g[128];
+      for (double& v : g) v -= g128;  // keep g(128) = 0
+      for (int z = 1; z < 256; ++z) g[z] = std::max(g[z], g[z - 1] + 1e-6);
+    }
+  }
+  return r;
 }
 
 }  // namespace brdfshot

@@ -1,9 +1,10 @@
 // Merging a bracket into linear radiance (relative units: value / exposure).
 //
-// Weights: hat(z) · t — the hat falls to exactly zero at the clipping and
-// near-black codes (OpenCV's MergeDebevec weights 0 and 255 with 1, so a
-// clipped window leaks its clip level into the result), and the factor t
-// favours the longer, less noisy exposure where both are valid. A pixel no
+// Weights (default kNoise): each frame's estimate lin(z)/t is weighted by its
+// inverse variance under a noise model estimated from the bracket itself, and
+// falls to exactly zero at the clipping and near-black codes (OpenCV's
+// MergeDebevec weights 0 and 255 with 1, so a clipped window leaks its clip
+// level into the result). `brdfshot bench-merge` measures the choices. A pixel no
 // frame measured well is flagged in the mask and gets the bound its frames
 // imply (clipped even in the shortest: ≥ clip/t_min; dark even in the longest).
 #pragma once
@@ -15,10 +16,35 @@
 
 namespace brdfshot {
 
+enum class MergeWeights {
+  kHat,    // Debevec & Malik's triangle × t
+  kFlat,   // flat top tapering to zero near black and clipping, × t (shot-noise optimal)
+  kNoise,  // inverse variance: t² / (shot + read + code-step quantisation), tapered
+};
+
+// Sensor noise in units of the clipping level x = lin / lin(clip): variance of
+// x is shot · x + read (+ the code step's rounding, known from the response).
+struct NoiseModel {
+  double shot = 1e-4;   // 1 / full well in electrons
+  double read = 1.6e-7; // (read noise / full well)²
+};
+
 struct MergeOptions {
   double low = 0.02;   // fraction of the code range below which a code is near-black
   double high = 0.98;  // ...above which it is clipped
+  MergeWeights weights = MergeWeights::kNoise;
+  bool estimate_noise = true;  // kNoise: EstimateNoise from the bracket, else `noise`
+  NoiseModel noise;
 };
+
+// The noise model of a bracket, from the frames themselves: where two frames
+// adjacent in exposure both measured a pixel well, their radiance estimates
+// differ by noise alone, and the squared difference is linear in (shot, read).
+// Solved by least squares over a grid of pixels (the top 2 % trimmed as
+// misregistration or edges), clamped to ≥ 0; the default model when fewer
+// than 100 such pixels exist.
+NoiseModel EstimateNoise(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
+                         const ResponseCurve& response, const MergeOptions& opt);
 
 struct MergeResult {
   cv::Mat radiance;  // CV_32FC3, RGB
@@ -30,5 +56,18 @@ struct MergeResult {
 // exposures. Error naming the problem on a size or type mismatch.
 MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
                          const ResponseCurve& response, const MergeOptions& opt = {});
+
+}  // namespace brdfshot
+
+namespace brdfshot {
+
+// The response the merge uses by default: Debevec & Malik's solution, then
+// `iterations` of Robertson's fixed point on a grid of ~`pixels` pixels —
+// merge with the current curve, then set each code's linear value to the mean
+// of E·t over every frame sample showing that code. Debevec alone is biased
+// where noise is large (it fits ln g to noisy codes); the linear-domain mean
+// is not. Codes never seen keep Debevec's value; the result is made monotone.
+ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
+                              int iterations = 3, int pixels = 200000);
 
 }  // namespace brdfshot

@@ -56,8 +56,9 @@ ResponseCurve RecoverResponseDebevec(const std::vector<cv::Mat>& frames, const s
   std::vector<cv::Point> locs;
   {
     std::vector<std::vector<cv::Point>> by_code(Z);
-    for (int y = 0; y < mid.rows; y += std::max(1, mid.rows / 200))
-      for (int x = 0; x < mid.cols; x += std::max(1, mid.cols / 200)) {
+    const int grid = std::max(200, static_cast<int>(2 * std::sqrt(static_cast<double>(opt.samples))));
+    for (int y = 0; y < mid.rows; y += std::max(1, mid.rows / grid))
+      for (int x = 0; x < mid.cols; x += std::max(1, mid.cols / grid)) {
         const cv::Vec3b v = mid.at<cv::Vec3b>(y, x);
         by_code[(v[0] + v[1] + v[2]) / 3].push_back({x, y});
       }
@@ -76,27 +77,58 @@ ResponseCurve RecoverResponseDebevec(const std::vector<cv::Mat>& frames, const s
   r.kind = "debevec";
   r.levels = Z;
   for (int c = 0; c < 3; ++c) {
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(S * N + Z - 1, Z + S);
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(A.rows());
-    int row = 0;
-    for (int i = 0; i < S; ++i)
+    // Debevec & Malik's least squares, Σ w² (g(z_ij) − ln E_i − ln t_j)² + smoothness,
+    // with each ln E_i eliminated in closed form (its optimum is the weighted
+    // mean of g(z_ij) − ln t_j): what remains is a 256×256 system in g whose
+    // size does not grow with the samples, so thousands of them cost nothing
+    // (the full QR over 200 samples took longer and averaged less noise).
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(Z, Z);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(Z);
+    std::vector<int> zs(N);
+    std::vector<double> w2(N), lt(N);
+    for (int j = 0; j < N; ++j) lt[j] = std::log(times[j]);
+    for (int i = 0; i < S; ++i) {
+      double W = 0, dl = 0;
       for (int j = 0; j < N; ++j) {
-        const int z = frames[j].at<cv::Vec3b>(locs[i])[c];
-        const double w = weight(z);
-        A(row, z) = w;
-        A(row, Z + i) = -w;
-        b(row) = w * std::log(times[j]);
-        ++row;
+        zs[j] = frames[j].at<cv::Vec3b>(locs[i])[c];
+        w2[j] = weight(zs[j]) * weight(zs[j]);
+        W += w2[j], dl += w2[j] * lt[j];
       }
-    A(row, 128) = 1;  // g(128) = 0 fixes the scale
-    ++row;
-    for (int z = 1; z < Z - 1; ++z, ++row) {
-      const double w = opt.lambda * std::max(1.0, weight(z));
-      A(row, z - 1) = w;
-      A(row, z) = -2 * w;
-      A(row, z + 1) = w;
+      if (W == 0) continue;
+      // Q = diag(w²) − w² w²ᵀ / W, acting on u = g(z) − ln t.
+      for (int j = 0; j < N; ++j) {
+        if (w2[j] == 0) continue;
+        H(zs[j], zs[j]) += w2[j];
+        rhs(zs[j]) += w2[j] * lt[j] - w2[j] * dl / W;
+        for (int k = 0; k < N; ++k) H(zs[j], zs[k]) -= w2[j] * w2[k] / W;
+      }
     }
-    const Eigen::VectorXd x = A.colPivHouseholderQr().solve(b);
+    for (int z = 1; z < Z - 1; ++z) {
+      const double w = opt.lambda * std::max(1.0, weight(z));
+      const int idx[3] = {z - 1, z, z + 1};
+      const double coef[3] = {w, -2 * w, w};
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) H(idx[a], idx[b]) += coef[a] * coef[b];
+    }
+    // g(128) = 0 fixes the scale: drop that unknown. What remains is positive
+    // definite once the samples reach two codes; otherwise the bracket holds no
+    // information about the curve's slope, and LDLT reports it.
+    Eigen::MatrixXd Hr(Z - 1, Z - 1);
+    Eigen::VectorXd br(Z - 1);
+    auto keep = [](int z) { return z < 128 ? z : z - 1; };
+    for (int a = 0; a < Z; ++a) {
+      if (a == 128) continue;
+      br(keep(a)) = rhs(a);
+      for (int b = 0; b < Z; ++b)
+        if (b != 128) Hr(keep(a), keep(b)) = H(a, b);
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(Hr);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
+        ldlt.vectorD().minCoeff() <= 1e-12 * ldlt.vectorD().maxCoeff())
+      throw Error("cannot recover a response curve: the bracket's pixels span too few codes");
+    const Eigen::VectorXd xr = ldlt.solve(br);
+    Eigen::VectorXd x(Z);
+    for (int z = 0; z < Z; ++z) x(z) = z == 128 ? 0.0 : xr(keep(z));
     std::vector<double> g(x.data(), x.data() + Z);
     // Codes no sample reached are set by smoothness alone; a response must not
     // decrease, so any wiggle is flattened (running maximum).

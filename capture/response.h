@@ -2,7 +2,7 @@
 //
 // 8-bit frames: recovered from the bracket itself by Debevec & Malik's weighted
 // least squares (g(z) = ln E + ln t, smoothness λ, g(128) = 0), solved in double
-// by QR. OpenCV's CalibrateDebevec does the same but takes 8-bit only and gives
+// with ln E eliminated (a 256×256 LDLT, however many samples). OpenCV's CalibrateDebevec does the same but takes 8-bit only and gives
 // clipped codes weight; ours gives codes 0 and 255 zero weight and forces the
 // result monotone. 16-bit frames (RAW or linear TIFF/PNG): linear, no curve.
 #pragma once
@@ -27,7 +27,7 @@ struct ResponseCurve {
 };
 
 struct DebevecOptions {
-  int samples = 200;       // pixel locations
+  int samples = 5000;      // pixel locations (ln E eliminated: cost does not grow with them)
   double lambda = 30;      // smoothness
   uint32_t seed = 7;
 };
