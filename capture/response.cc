@@ -103,8 +103,11 @@ ResponseCurve RecoverResponseDebevec(const std::vector<cv::Mat>& frames, const s
         for (int k = 0; k < N; ++k) H(zs[j], zs[k]) -= w2[j] * w2[k] / W;
       }
     }
+    // λ is stated per 200 samples (Debevec & Malik's scale); the data term grows
+    // with the samples, so the smoothness grows with it to keep their balance.
+    const double lambda = opt.lambda * std::sqrt(S / 200.0);
     for (int z = 1; z < Z - 1; ++z) {
-      const double w = opt.lambda * std::max(1.0, weight(z));
+      const double w = lambda * std::max(1.0, weight(z));
       const int idx[3] = {z - 1, z, z + 1};
       const double coef[3] = {w, -2 * w, w};
       for (int a = 0; a < 3; ++a)
@@ -125,7 +128,8 @@ ResponseCurve RecoverResponseDebevec(const std::vector<cv::Mat>& frames, const s
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(Hr);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
         ldlt.vectorD().minCoeff() <= 1e-12 * ldlt.vectorD().maxCoeff())
-      throw Error("cannot recover a response curve: the bracket's pixels span too few codes");
+      throw Error(
+          "cannot recover a response curve: the frames do not constrain it (identical frames, or too few codes)");
     const Eigen::VectorXd xr = ldlt.solve(br);
     Eigen::VectorXd x(Z);
     for (int z = 0; z < Z; ++z) x(z) = z == 128 ? 0.0 : xr(keep(z));

@@ -28,7 +28,7 @@ struct ResponseCurve {
 
 struct DebevecOptions {
   int samples = 5000;      // pixel locations (ln E eliminated: cost does not grow with them)
-  double lambda = 30;      // smoothness
+  double lambda = 30;      // smoothness, per 200 samples (scaled by √(samples/200))
   uint32_t seed = 7;
 };
 

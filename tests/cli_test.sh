@@ -25,11 +25,16 @@ check bad-option 1 "see --help" -- "$B" eval --no-such-flag
 check help 0 "--probe" -- "$B" basis --help
 check bad-grid 1 "bad --grid" -- "$B" cluster --db standin --data "$DATA" --grid 9x9 -o "$T/c.json"
 # merge: one frame, missing EXIF, then a two-frame bracket with a times file.
+# Two PNG exposures of one render, 1 EV apart (the tone map's fixed exposure).
 "$B" render --standin demo-felt $DB --probe "$PROBE" --sphere 32 -o "$T/m.exr" >/dev/null 2>&1
-cp "$T/m.png" "$T/f1.png"; cp "$T/m.png" "$T/f2.png"; printf '1/4\n1/2\n' > "$T/times.txt"
+"$B" render --standin demo-felt $DB --probe "$PROBE" --sphere 32 --exposure 1 -o "$T/e1.exr" >/dev/null 2>&1
+"$B" render --standin demo-felt $DB --probe "$PROBE" --sphere 32 --exposure 2 -o "$T/e2.exr" >/dev/null 2>&1
+cp "$T/e1.png" "$T/f1.png"; cp "$T/e2.png" "$T/f2.png"; printf '1/4\n1/2\n' > "$T/times.txt"
 check merge-one 1 "at least two frames" -- "$B" merge "$T/f1.png" -o "$T/merged.exr"
 check merge-noexif 1 "f1.png: has no EXIF exposure time" -- "$B" merge "$T/f1.png" "$T/f2.png" -o "$T/merged.exr"
 check merge-times 1 "times.txt: has 2 exposure times for 3 frames" -- "$B" merge "$T/f1.png" "$T/f2.png" "$T/m.png" --times "$T/times.txt" -o "$T/merged.exr"
+cp "$T/f1.png" "$T/same.png"
+check merge-identical 1 "do not constrain" -- "$B" merge "$T/f1.png" "$T/same.png" --times "$T/times.txt" -o "$T/merged.exr"
 check merge-ok 0 "merged 2 frames" -- "$B" merge "$T/f1.png" "$T/f2.png" --times "$T/times.txt" -o "$T/merged.exr"
 [ -s "$T/merged.exr" ] && [ -s "$T/merged_mask.png" ] && [ -s "$T/merged.json" ] && pass=$((pass+1)) || { echo "FAIL merge outputs"; fail=$((fail+1)); }
 check merge-help 0 "--times" -- "$B" merge --help
