@@ -157,7 +157,7 @@ int MergeMain(int argc, char** argv) {
   if (!response_in.empty()) {
     response = ResponseCurve::FromJson(nlohmann::json::parse(ReadFileBytes(response_in), nullptr, false), response_in);
   } else if (frames[0].depth() == CV_8U) {
-    response = RecoverResponseDebevec(frames, exposure);
+    response = RecoverResponse(frames, exposure);
   } else {
     response = ResponseCurve::Linear16();
   }

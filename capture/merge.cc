@@ -188,7 +188,7 @@ namespace brdfshot {
 
 ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vector<double>& times, int iterations,
                               int pixels) {
-  ResponseCurve r = RecoverResponseDebevec(frames, times);
+  ResponseCurve r = RecoverResponseDebevec(frames, times);  // checks: ≥ 2 frames, 8-bit, same size
   if (iterations <= 0) return r;
   // A regular grid of the frames: the fixed point needs many pixels per code,
   // not every pixel.
