@@ -19,6 +19,7 @@
 #include "capture/merge.h"
 #include "capture/response.h"
 #include "capture/synthetic_bracket.h"
+#include "fit/loo_eval.h"  // Median
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_io.h"
@@ -90,11 +91,6 @@ ErrorStats Compare(const cv::Mat& merged, const cv::Mat& truth, const cv::Mat& m
   return s;
 }
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
-}
-
 struct Method {
   std::string key, name;
   bool raw;  // works on the RAW-like brackets (else 8-bit)
@@ -115,8 +111,19 @@ ResponseCurve TrueResponse(const CameraModel& cam) {
   return r;
 }
 
+// OpenCV's pipeline: a calibrator's response, then its merge (times as float).
+template <typename Calibrate, typename Merge>
+auto OpenCvMerge(Calibrate calibrate, Merge merge) {
+  return [=](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
+    const std::vector<float> tf(t.begin(), t.end());
+    cv::Mat response, hdr;
+    calibrate()->process(f, response, tf);
+    merge()->process(f, hdr, tf, response);
+    return hdr;
+  };
+}
+
 std::vector<Method> Methods(const CameraModel& cam) {
-  auto f32 = [](const std::vector<double>& t) { return std::vector<float>(t.begin(), t.end()); };
   auto ours = [](MergeWeights w) {
     return [w](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
       MergeOptions o;
@@ -137,19 +144,9 @@ std::vector<Method> Methods(const CameraModel& cam) {
       {"ours-hat", "brdfshot, hat x t weights", false, ours(MergeWeights::kHat)},
       {"ours-flat", "brdfshot, flat-top x t weights", false, ours(MergeWeights::kFlat)},
       {"cv-debevec", "OpenCV CalibrateDebevec + MergeDebevec", false,
-       [f32](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
-         cv::Mat response, hdr;
-         cv::createCalibrateDebevec()->process(f, response, f32(t));
-         cv::createMergeDebevec()->process(f, hdr, f32(t), response);
-         return hdr;
-       }},
+       OpenCvMerge([] { return cv::createCalibrateDebevec(); }, [] { return cv::createMergeDebevec(); })},
       {"cv-robertson", "OpenCV CalibrateRobertson + MergeRobertson", false,
-       [f32](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
-         cv::Mat response, hdr;
-         cv::createCalibrateRobertson()->process(f, response, f32(t));
-         cv::createMergeRobertson()->process(f, hdr, f32(t), response);
-         return hdr;
-       }},
+       OpenCvMerge([] { return cv::createCalibrateRobertson(); }, [] { return cv::createMergeRobertson(); })},
       {"ours-raw", "brdfshot on RAW-like 12-bit frames (linear)", true,
        [](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
          return MergeBracket(f, t, ResponseCurve::Linear16()).radiance;

@@ -184,19 +184,13 @@ cv::Vec3f PrefilteredProbe::LookupLevel(const Vec3& d, int level) const {
   return Bilinear(level, u, v);
 }
 
-void PrefilteredProbe::Trilinear(float u, float v, float lod, float* rgb) const {
-  cv::Vec3f c;
+cv::Vec3f PrefilteredProbe::Trilinear(double u, double v, double lod) const {
   const int top = levels() - 1;
-  if (lod <= 0) {
-    c = Bilinear(0, u, v);
-  } else if (lod >= top) {
-    c = Bilinear(top, u, v);
-  } else {
-    const int l0 = static_cast<int>(lod);
-    const float t = lod - l0;
-    c = Bilinear(l0, u, v) * (1 - t) + Bilinear(l0 + 1, u, v) * t;
-  }
-  rgb[0] = c[0], rgb[1] = c[1], rgb[2] = c[2];
+  if (lod <= 0) return Bilinear(0, u, v);
+  if (lod >= top) return Bilinear(top, u, v);
+  const int l0 = static_cast<int>(lod);
+  const float t = static_cast<float>(lod - l0);
+  return Bilinear(l0, u, v) * (1 - t) + Bilinear(l0 + 1, u, v) * t;
 }
 
 void PrefilteredProbe::LookupMany(int n, const float* d, const float* omega, float* scratch, float* rgb) const {
@@ -216,20 +210,15 @@ void PrefilteredProbe::LookupMany(int n, const float* d, const float* omega, flo
       rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0;
       continue;
     }
-    Trilinear(u[i], v[i], lod[i], rgb + 3 * i);
+    const cv::Vec3f c = Trilinear(u[i], v[i], lod[i]);
+    rgb[3 * i] = c[0], rgb[3 * i + 1] = c[1], rgb[3 * i + 2] = c[2];
   }
 }
 
 cv::Vec3f PrefilteredProbe::Lookup(const Vec3& d, double omega) const {
   double u, v;
   Angles(d, &u, &v);
-  const double lod = 0.5 * std::log2(std::max(omega, 1e-30) / texel0_omega_);
-  if (lod <= 0) return Bilinear(0, u, v);
-  const int top = levels() - 1;
-  if (lod >= top) return Bilinear(top, u, v);
-  const int l0 = static_cast<int>(lod);
-  const float t = static_cast<float>(lod - l0);
-  return Bilinear(l0, u, v) * (1 - t) + Bilinear(l0 + 1, u, v) * t;
+  return Trilinear(u, v, 0.5 * std::log2(std::max(omega, 1e-30) / texel0_omega_));
 }
 
 }  // namespace brdfshot

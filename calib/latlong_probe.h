@@ -65,7 +65,7 @@ class PrefilteredProbe {
 
  private:
   static void Angles(const Vec3& dir, double* u, double* v);  // lat-long coords in [0,1]²
-  void Trilinear(float u, float v, float lod, float* rgb) const;
+  cv::Vec3f Trilinear(double u, double v, double lod) const;  // between the two levels around lod
   cv::Vec3f Bilinear(int level, double u, double v) const;
   std::vector<cv::Mat> levels_;  // CV_32FC3, level 0 is the probe
   double texel0_omega_;          // mean texel solid angle at level 0

@@ -57,7 +57,6 @@ std::vector<cv::Mat> SimulateBracket(const cv::Mat& radiance, const std::vector<
 
 std::vector<double> BracketTimes(const cv::Mat& radiance, int frames, double stops) {
   BRDFSHOT_CHECK(frames >= 1 && stops > 0);
-  cv::Mat gray;
   cv::Mat flat = radiance.reshape(1, static_cast<int>(radiance.total()));
   std::vector<float> g;
   g.reserve(radiance.total());
