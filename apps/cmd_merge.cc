@@ -16,6 +16,7 @@
 #include "capture/orientation.h"
 #include "capture/raw.h"
 #include "capture/response.h"
+#include "fit/plots.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_io.h"
@@ -57,13 +58,37 @@ std::vector<std::string> ExpandInputs(const std::vector<std::string>& args) {
   return files;
 }
 
+// The recovered curve as people draw it: relative exposure (log) against code,
+// one line per channel, over the codes the frames actually contain (a code no
+// pixel shows is only extrapolated by the smoothness term, and would stretch
+// the axis without telling anything). A kink shows at a glance.
+cv::Mat ResponsePlot(const ResponseCurve& r, const std::vector<cv::Mat>& frames) {
+  std::vector<std::array<long, 3>> count(r.levels, {0, 0, 0});
+  for (const cv::Mat& f : frames)
+    for (int y = 0; y < f.rows; ++y)
+      for (int x = 0; x < f.cols; ++x)
+        for (int c = 0; c < 3; ++c) ++count[f.at<cv::Vec3b>(y, x)[c]][c];
+  const long min_count = std::max<long>(10, frames.size() * frames[0].total() / 100000);
+  std::vector<XYSeries> series;
+  const char* names[3] = {"R", "G", "B"};
+  const cv::Scalar bgr[3] = {{40, 40, 220}, {40, 160, 40}, {220, 80, 40}};
+  for (int c = 0; c < 3; ++c) {
+    XYSeries s{names[c], {}, {}, bgr[c]};
+    for (int z = 1; z + 1 < r.levels; ++z)
+      if (count[z][c] >= min_count) s.x.push_back(z), s.y.push_back(r.Linear(c, z));
+    series.push_back(s);
+  }
+  return LogLogPlot(series, "response curve (" + r.kind + "), codes seen in the frames", "pixel code",
+                    "relative exposure");
+}
+
 }  // namespace
 
 int MergeMain(int argc, char** argv) {
   std::vector<std::string> inputs;
   std::string times_path, response_in, response_out, out = "merged.exr", mask_out, sidecar;
-  bool align = false;
-  std::string wb_arg;
+  bool align = false, half = false;
+  std::string wb_arg, plot_out;
   po::options_description desc("options");
   desc.add_options()
       ("input", po::value(&inputs)->multitoken(), "frames: files or a folder (positional)")
@@ -74,6 +99,8 @@ int MergeMain(int argc, char** argv) {
       ("wb", po::value(&wb_arg), "RAW white balance R,G,B multipliers (default: the camera's)")
       ("mask", po::value(&mask_out), "mask PNG of unreliable pixels (default: <out>_mask.png)")
       ("sidecar", po::value(&sidecar), "JSON sidecar (default: <out>.json)")
+      ("plot-response", po::value(&plot_out), "PNG plot of the response curve (default: <out>_response.png for 8-bit frames)")
+      ("half", po::bool_switch(&half), "write half-float EXR (half the size; values above 65504 saturate)")
       ("out,o", po::value(&out)->default_value(out), "merged linear radiance (.exr)");
   po::positional_options_description pos;
   pos.add("input", -1);
@@ -85,6 +112,7 @@ int MergeMain(int argc, char** argv) {
   const std::string stem = (fs::path(out).parent_path() / fs::path(out).stem()).string();
   if (mask_out.empty()) mask_out = stem + "_mask.png";
   if (sidecar.empty()) sidecar = stem + ".json";
+  if (plot_out.empty()) plot_out = stem + "_response.png";
 
   std::array<double, 3> wb{};
   if (!wb_arg.empty()) {
@@ -164,7 +192,14 @@ int MergeMain(int argc, char** argv) {
   if (!response_out.empty())
     WriteFileAtomic(response_out, [&](std::ostream& o) { o << response.ToJson().dump(1) << "\n"; });
   const MergeResult m = MergeBracket(frames, exposure, response);
-  WriteExr(out, m.radiance);
+  double max_radiance = 0;
+  cv::minMaxLoc(m.radiance.reshape(1), nullptr, &max_radiance);
+  if (half && max_radiance > 65504)
+    throw Error("--half: the merged radiance reaches " + std::to_string(max_radiance) +
+                ", beyond half float's 65504; drop --half or rescale the times");
+  WriteExr(out, m.radiance, half ? ExrPixel::kHalf : ExrPixel::kFloat);
+  const bool plotted = frames[0].depth() == CV_8U;
+  if (plotted) WritePng(plot_out, ResponsePlot(response, frames));
   WriteFileAtomicByName(mask_out, [&](const std::string& tmp) {
     if (!cv::imwrite(tmp, m.mask)) throw FileError(tmp, "cannot write mask");
   });
@@ -173,7 +208,8 @@ int MergeMain(int argc, char** argv) {
   const nlohmann::json side = {{"format", "brdfshot-merge-1"}, {"frames", frames_json}, {"camera", camera},
                                {"response", response.ToJson()}, {"raw", raw}, {"aligned", align},
                                {"unreliable_fraction", m.unreliable_fraction}, {"output", out},
-                               {"mask", mask_out}, {"command", "brdfshot " + cmdline}};
+                               {"mask", mask_out}, {"half", half},
+                               {"response_plot", plotted ? plot_out : ""}, {"command", "brdfshot " + cmdline}};
   WriteFileAtomic(sidecar, [&](std::ostream& o) { o << side.dump(1) << "\n"; });
   std::printf("merged %zu frames (%dx%d, %s) in %.2f s: %.2f %% of pixels unreliable\nwrote %s, %s, %s\n",
               files.size(), frames[0].cols, frames[0].rows, raw ? "RAW" : response.kind.c_str(), sw.Seconds(),

@@ -153,7 +153,7 @@ cv::Mat LogLogPlot(const std::vector<XYSeries>& series, const std::string& title
   cv::putText(img, xlabel, {420, 585}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
   cv::putText(img, ylabel, {5, 60}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
   for (size_t s = 0; s < series.size(); ++s) {
-    const cv::Scalar col = ClassColor(static_cast<int>(s));
+    const cv::Scalar col = series[s].color[0] >= 0 ? series[s].color : ClassColor(static_cast<int>(s));
     const auto& S = series[s];
     for (size_t i = 0; i < S.x.size(); ++i) {
       cv::circle(img, {px(S.x[i]), py(S.y[i])}, 3, col, cv::FILLED, cv::LINE_AA);

@@ -31,6 +31,7 @@ cv::Mat BarPlot(const std::vector<std::vector<double>>& values, const std::vecto
 struct XYSeries {
   std::string name;
   std::vector<double> x, y;
+  cv::Scalar color = cv::Scalar(-1, 0, 0);  // BGR; negative: the palette's k-th colour
 };
 cv::Mat LogLogPlot(const std::vector<XYSeries>& series, const std::string& title, const std::string& xlabel,
                    const std::string& ylabel, double goal_y = 0);

@@ -5,7 +5,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
-#include <ImfRgbaFile.h>
+#include <half.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -25,21 +25,32 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
+// Read as 32-bit float whatever the file stores: the RGBA interface would hand
+// back half floats, which lose precision and turn a sun above 65504 into inf.
 cv::Mat ReadExr(const std::string& path) {
   try {
-    Imf::RgbaInputFile file(path.c_str());
-    const Imath::Box2i dw = file.dataWindow();
-    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-    if (w <= 0 || h <= 0) throw FileError(path, "empty data window");
-    std::vector<Imf::Rgba> px(static_cast<size_t>(w) * h);
-    file.setFrameBuffer(px.data() - dw.min.x - static_cast<long>(dw.min.y) * w, 1, w);
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    const long w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    if (w <= 0 || h <= 0 || w * h > (1L << 31)) throw FileError(path, "bad data window");
+    const Imf::ChannelList& ch = file.header().channels();
+    const bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
+    if (!rgb && !ch.findChannel("Y")) throw FileError(path, "has neither R, G, B nor Y channels");
+    cv::Mat out(static_cast<int>(h), static_cast<int>(w), CV_32FC3);
+    char* origin = reinterpret_cast<char*>(out.ptr<float>()) -
+                   (static_cast<long>(dw.min.x) + static_cast<long>(dw.min.y) * w) * 3 * sizeof(float);
+    const size_t xs = 3 * sizeof(float), ys = xs * w;
+    Imf::FrameBuffer fb;
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < (rgb ? 3 : 1); ++c)
+      fb.insert(rgb ? names[c] : "Y", Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), xs, ys, 1, 1, 0.0));
+    file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
-    cv::Mat out(h, w, CV_32FC3);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const Imf::Rgba& p = px[static_cast<size_t>(y) * w + x];
-        out.at<cv::Vec3f>(y, x) = cv::Vec3f(p.r, p.g, p.b);
-      }
+    if (!rgb) {  // luminance-only file: grey
+      cv::Mat y;
+      cv::extractChannel(out, y, 0);
+      cv::merge(std::vector<cv::Mat>{y, y, y}, out);
+    }
     return out;
   } catch (const Error&) {
     throw;
@@ -75,20 +86,29 @@ cv::Mat ReadHdrImage(const std::string& path) {
   return rgb;
 }
 
-void WriteExr(const std::string& path, const cv::Mat& rgb) {
+void WriteExr(const std::string& path, const cv::Mat& rgb, ExrPixel pixel) {
   BRDFSHOT_CHECK(rgb.type() == CV_32FC3, "WriteExr wants CV_32FC3 RGB");
   const cv::Mat img = rgb.isContinuous() ? rgb : rgb.clone();
+  std::vector<half> halves;
+  if (pixel == ExrPixel::kHalf) {
+    halves.resize(img.total() * 3);
+    const float* f = img.ptr<float>();
+    for (size_t i = 0; i < halves.size(); ++i) halves[i] = half(f[i]);
+  }
   WriteFileAtomicByName(path, [&](const std::string& tmp) {
+    const Imf::PixelType type = pixel == ExrPixel::kHalf ? Imf::HALF : Imf::FLOAT;
+    const size_t bytes = pixel == ExrPixel::kHalf ? sizeof(half) : sizeof(float);
     Imf::Header header(img.cols, img.rows);
     header.compression() = Imf::ZIP_COMPRESSION;
-    for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(type));
     Imf::OutputFile file(tmp.c_str(), header);
     Imf::FrameBuffer fb;
-    char* base = reinterpret_cast<char*>(const_cast<float*>(img.ptr<float>()));
-    const size_t xs = 3 * sizeof(float), ys = xs * img.cols;
-    fb.insert("R", Imf::Slice(Imf::FLOAT, base, xs, ys));
-    fb.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xs, ys));
-    fb.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
+    char* base = pixel == ExrPixel::kHalf ? reinterpret_cast<char*>(halves.data())
+                                          : reinterpret_cast<char*>(const_cast<float*>(img.ptr<float>()));
+    const size_t xs = 3 * bytes, ys = xs * img.cols;
+    fb.insert("R", Imf::Slice(type, base, xs, ys));
+    fb.insert("G", Imf::Slice(type, base + bytes, xs, ys));
+    fb.insert("B", Imf::Slice(type, base + 2 * bytes, xs, ys));
     file.setFrameBuffer(fb);
     file.writePixels(img.rows);
   });

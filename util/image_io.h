@@ -13,8 +13,12 @@ namespace brdfshot {
 // NaN/Inf pixel (a probe with NaN would silently poison every basis image).
 cv::Mat ReadHdrImage(const std::string& path);
 
-// Float RGB EXR (ZIP compressed), written atomically.
-void WriteExr(const std::string& path, const cv::Mat& rgb);
+// RGB EXR (ZIP compressed), written atomically. Half floats halve the file and
+// keep 11 bits of mantissa over ~30 stops (6e-5 to 65504): enough for a merged
+// photo, not for values outside that range (they saturate to ±inf, so the
+// caller scales first), hence float by default.
+enum class ExrPixel { kFloat, kHalf };
+void WriteExr(const std::string& path, const cv::Mat& rgb, ExrPixel pixel = ExrPixel::kFloat);
 
 // 8-bit sRGB-ish PNG for people: scale by `exposure`, gamma 1/2.2, clip.
 void WritePngTonemapped(const std::string& path, const cv::Mat& rgb, double exposure = 1.0);

@@ -1,0 +1,194 @@
+#include "normals/sphere_detect.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "normals/rim_profile.h"
+#include "util/check.h"
+
+namespace brdfshot {
+
+cv::Mat LogLuminance(const cv::Mat& rgb) {
+  BRDFSHOT_CHECK(rgb.channels() == 3 || rgb.channels() == 1);
+  cv::Mat f, lum;
+  rgb.convertTo(f, CV_32F);
+  if (f.channels() == 3) {
+    cv::transform(f, lum, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
+  } else {
+    lum = f;
+  }
+  // 99th percentile from a subsample: the floor needs no more precision.
+  std::vector<float> s;
+  const int step = std::max(1, static_cast<int>(std::sqrt(lum.total() / 20000.0)));
+  for (int y = 0; y < lum.rows; y += step)
+    for (int x = 0; x < lum.cols; x += step) s.push_back(lum.at<float>(y, x));
+  std::nth_element(s.begin(), s.begin() + s.size() * 99 / 100, s.end());
+  const float floor = std::max(1e-12f, 0.01f * s[s.size() * 99 / 100]);
+  cv::max(lum, floor, lum);
+  cv::log(lum, lum);
+  return lum;
+}
+
+std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
+                                          double r_hi, int rays, double* rim_blur) {
+  BRDFSHOT_CHECK(image.type() == CV_32F && rays > 0 && r_hi > r_lo && r_lo >= 0);
+  const double step = 0.25;  // pixels along the ray
+  const int n = static_cast<int>((r_hi - r_lo) / step) + 1;
+  // One remap for all rays: rows are rays, columns radii. remap's pixel centres
+  // sit at integer coordinates, ours at +½.
+  cv::Mat mapx(rays, n, CV_32F), mapy(rays, n, CV_32F);
+  for (int k = 0; k < rays; ++k) {
+    const double a = 2 * kPi * (k + 0.5) / rays, ca = std::cos(a), sa = std::sin(a);
+    for (int i = 0; i < n; ++i) {
+      const double r = r_lo + i * step;
+      mapx.at<float>(k, i) = static_cast<float>(centre.x + r * ca - 0.5);
+      mapy.at<float>(k, i) = static_cast<float>(centre.y + r * sa - 0.5);
+    }
+  }
+  cv::Mat prof;
+  cv::remap(image, prof, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  // Smooth along the ray over about a pixel: bilinear samples at ¼ px are
+  // piecewise linear, and their raw differences would lock onto pixel edges.
+  cv::GaussianBlur(prof, prof, cv::Size(9, 1), 2.0, 0, cv::BORDER_REPLICATE);
+  std::vector<double> strength(rays, 0.0), where(rays, -1.0);
+  for (int k = 0; k < rays; ++k) {
+    // A ray whose band leaves the picture sees the border, not the rim.
+    const float ex = mapx.at<float>(k, n - 1), ey = mapy.at<float>(k, n - 1);
+    if (ex < 0 || ey < 0 || ex > image.cols - 1 || ey > image.rows - 1) continue;
+    const float* p = prof.ptr<float>(k);
+    int best = -1;
+    double best_d = 0;
+    for (int i = 2; i + 2 < n; ++i) {
+      const double d = std::abs(p[i + 1] - p[i - 1]);
+      if (d > best_d) best_d = d, best = i;
+    }
+    if (best < 3 || best > n - 4) continue;  // at the band's end: not a peak
+    const double dm = std::abs(p[best] - p[best - 2]), dp = std::abs(p[best + 2] - p[best]);
+    const double denom = dm - 2 * best_d + dp;
+    const double off = denom < 0 ? 0.5 * (dm - dp) / denom : 0.0;
+    strength[k] = best_d;
+    where[k] = r_lo + (best + std::clamp(off, -0.5, 0.5)) * step;
+  }
+  std::vector<double> s;
+  for (double v : strength)
+    if (v > 0) s.push_back(v);
+  std::vector<cv::Point2d> pts;
+  if (s.empty()) return pts;
+  std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
+  const double min_strength = 0.25 * s[s.size() / 2];
+  if (rim_blur) {
+    // The rim model on every ray strong enough, its blur estimated from a
+    // spread of them.
+    std::vector<const float*> sample;
+    std::vector<double> guesses;
+    for (int k = 0; k < rays; k += std::max(1, rays / 48))
+      if (where[k] >= 0 && strength[k] >= min_strength) sample.push_back(prof.ptr<float>(k)), guesses.push_back(where[k]);
+    *rim_blur = EstimateRimBlur(sample, n, r_lo, step, guesses);
+    const RimProfileModel model(*rim_blur);
+    for (int k = 0; k < rays; ++k)
+      if (where[k] >= 0 && strength[k] >= min_strength) {
+        const double r = model.Fit(prof.ptr<float>(k), n, r_lo, step, where[k], nullptr);
+        where[k] = std::isfinite(r) ? r : -1;
+      }
+  }
+  for (int k = 0; k < rays; ++k) {
+    if (where[k] < 0 || strength[k] < min_strength) continue;
+    const double a = 2 * kPi * (k + 0.5) / rays;
+    pts.emplace_back(centre.x + where[k] * std::cos(a), centre.y + where[k] * std::sin(a));
+  }
+  return pts;
+}
+
+namespace {
+
+// The reduced copy the coarse search works on, and its scale to full resolution.
+double Reduce(const cv::Mat& log_lum, int max_side, cv::Mat* small) {
+  const double scale = std::min(1.0, double(max_side) / std::max(log_lum.cols, log_lum.rows));
+  if (scale < 1) {
+    cv::resize(log_lum, *small, cv::Size(), scale, scale, cv::INTER_AREA);
+  } else {
+    *small = log_lum;
+  }
+  return scale;
+}
+
+}  // namespace
+
+std::vector<Circle> HoughCandidates(const cv::Mat& log_lum, const SphereDetectOptions& o) {
+  std::vector<Circle> out;
+  // Two scales: at the coarser one a large, blurred rim is still a sharp
+  // circle to the gradient voting (a 224 px ball at σ = 2 px is missed at 512).
+  for (int max_side : {o.coarse_max_side, o.coarse_max_side / 2}) {
+    cv::Mat small;
+    const double scale = Reduce(log_lum, max_side, &small);
+    double lo, hi;
+    cv::minMaxLoc(small, &lo, &hi);
+    cv::Mat u8;
+    small.convertTo(u8, CV_8U, 255.0 / std::max(hi - lo, 1e-6), -lo * 255.0 / std::max(hi - lo, 1e-6));
+    const int side = std::min(u8.cols, u8.rows);
+    std::vector<cv::Vec3f> found;
+    // Gradient-alt: param2 is how perfect a circle must be (1 = perfect).
+    cv::HoughCircles(u8, found, cv::HOUGH_GRADIENT_ALT, 1.5, side * o.min_radius, 60, 0.6,
+                     std::max(3, static_cast<int>(side * o.min_radius)), static_cast<int>(side * o.max_radius));
+    // HoughCircles reports centres with pixel centres at integers.
+    for (const cv::Vec3f& c : found) out.push_back({(c[0] + 0.5) / scale, (c[1] + 0.5) / scale, c[2] / scale});
+  }
+  return out;
+}
+
+SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
+  const cv::Mat ll = LogLuminance(rgb);
+  // The sub-pixel edge is found in linear luminance: blur is linear there, so a
+  // blurred step's steepest point is the step. In log it shifts towards the
+  // darker side by a fraction of the blur (0.3–0.5 px measured here).
+  cv::Mat lin;
+  cv::exp(ll, lin);
+  const std::vector<Circle> cands = HoughCandidates(ll, o);
+  // Rank the candidates by rim support: the fraction of rays with a strong
+  // edge within a few percent of their radius, measured at full resolution.
+  SphereDetection det;
+  double best = 0, best_support = 0;
+  for (size_t i = 0; i < std::min<size_t>(cands.size(), 40); ++i) {
+    const Circle& c = cands[i];
+    const double band = std::max(4.0, 0.06 * c.r);
+    const std::vector<cv::Point2d> pts =
+        RadialEdgePoints(ll, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90);
+    int near = 0;
+    for (const auto& p : pts) near += std::abs(std::hypot(p.x - c.cx, p.y - c.cy) - c.r) < band;
+    // A sphere is usually the largest closed rim in the picture: score the
+    // rim's supported length, not its fraction (a small disc is as round).
+    const double support = near / 90.0;
+    if (support >= 0.5 && support * c.r > best) best = support * c.r, det.coarse = c;
+    best_support = std::max(best_support, support);
+  }
+  if (best == 0)
+    throw Error("no sphere found (" + std::to_string(cands.size()) + " circle candidates, best rim support " +
+                std::to_string(static_cast<int>(100 * best_support)) + " %, need 50 %)");
+  det.principal = o.principal.x >= 0 ? o.principal : cv::Point2d(rgb.cols / 2.0, rgb.rows / 2.0);
+  det.focal_px = o.focal_px;
+  det.perspective = o.focal_px > 0;
+  Circle c = det.coarse;
+  // Three passes, each in a narrower band around the last fit: wide enough
+  // first for a coarse circle 10 % off, narrow last so clutter stays out, and
+  // the rim model (rim_profile.h) only in the last.
+  for (int pass = 0; pass < 3; ++pass) {
+    // Under perspective the rim is an ellipse; around the apparent circle it
+    // strays by up to r (1 − cos θ_c), θ_c the centre's angle off axis.
+    const double ellipse = det.perspective && pass ? c.r * (1 + det.cone.centre_dir.z) : 0.0;
+    const double band = pass == 0 ? std::max(8.0, 0.12 * c.r) : pass == 1 ? std::max(6.0, 0.03 * c.r) + ellipse
+                                                                           : 14.0 + ellipse;
+    det.edge_points = RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - band), c.r + band, o.rays,
+                                       pass == 2 ? &det.blur_sigma : nullptr);
+    if (det.perspective) {
+      det.cone = FitConeRobust(det.edge_points, o.focal_px, det.principal, &det.quality);
+      c = ApparentCircle(det.cone, o.focal_px, det.principal);
+    } else {
+      c = FitCircleRobust(det.edge_points, &det.quality);
+    }
+  }
+  det.circle = c;
+  return det;
+}
+
+}  // namespace brdfshot

@@ -1,0 +1,65 @@
+// Finding a sphere in a photo: coarse then sub-pixel.
+//
+//  1. Coarse: OpenCV's HoughCircles (gradient-alt) on a log-luminance copy
+//     reduced to ≤ 512 px, candidates ranked by how many radial rays find an
+//     edge near their rim (clutter makes circles too; a sphere's rim is closed).
+//  2. Sub-pixel: along `rays` radial profiles through the full-resolution
+//     image, the edge is the peak of the profile's derivative, interpolated
+//     by a parabola; the points are fitted robustly (FitCircleRobust, or the
+//     perspective cone when the focal length is known). Twice: the second pass
+//     looks in a narrow band around the first fit, away from clutter.
+//
+// Why log luminance: an HDR photo spans many stops; in log the sphere's rim
+// has the same contrast in a dark corner and next to a window.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "normals/circle_fit.h"
+
+namespace brdfshot {
+
+struct SphereDetectOptions {
+  int coarse_max_side = 512;     // the Hough search runs on a copy this small
+  double min_radius = 0.04;      // of the image's shorter side
+  double max_radius = 0.5;
+  int rays = 720;                // radial profiles for the sub-pixel edge
+  double focal_px = 0;           // > 0: perspective model (silhouette is an ellipse)
+  cv::Point2d principal{-1, -1}; // default: image centre
+};
+
+struct SphereDetection {
+  Circle coarse;        // Hough's circle, full-resolution pixels
+  Circle circle;        // refined: the silhouette (orthographic) or the cone's apparent circle
+  bool perspective = false;
+  SphereCone cone;      // perspective only
+  double focal_px = 0;
+  cv::Point2d principal;
+  FitQuality quality;
+  double blur_sigma = 0;  // optical blur at the rim, px (rim model)
+  std::vector<cv::Point2d> edge_points;  // of the last pass, for pictures
+};
+
+// Single-channel float log luminance of an RGB image (any depth), floored at
+// 1 % of its 99th percentile so the noise of a black background is not
+// magnified into edges.
+cv::Mat LogLuminance(const cv::Mat& rgb);
+
+// Throws Error("no sphere found ...") when no candidate has a closed rim.
+SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& options = {});
+
+// Edge points along `rays` radial profiles of `image` (one channel, float)
+// between radii r_lo and r_hi around `centre` (continuous coordinates): the
+// steepest point of each, or — when `rim_blur` is given — the rim model's fit
+// (rim_profile.h) around it, with the blur it estimated written there. Rays
+// whose strongest step is weaker than a quarter of the median ray's are dropped.
+std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
+                                          double r_hi, int rays, double* rim_blur = nullptr);
+
+// OpenCV's HoughCircles alone on the same reduced image (the baseline the
+// sub-pixel stage is measured against). Empty vector if it finds nothing.
+std::vector<Circle> HoughCandidates(const cv::Mat& log_lum, const SphereDetectOptions& options);
+
+}  // namespace brdfshot

@@ -1,0 +1,118 @@
+#include "util/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "util/check.h"
+
+namespace brdfshot {
+namespace {
+
+std::string TempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("brdfshot_image_io_" + name)).string();
+}
+
+cv::Mat HdrRamp() {
+  // 1e-4 … 1e6: a dark corner to a sun, beyond half's 65504.
+  cv::Mat m(7, 9, CV_32FC3);
+  for (int y = 0; y < m.rows; ++y)
+    for (int x = 0; x < m.cols; ++x)
+      for (int c = 0; c < 3; ++c) m.at<cv::Vec3f>(y, x)[c] = std::pow(10.0f, -4.0f + (x + 9 * y + c) * 10.0f / 65);
+  return m;
+}
+
+TEST(ImageIo, FloatExrRoundTripIsExactIncludingSuns) {
+  const cv::Mat m = HdrRamp();
+  const std::string path = TempPath("float.exr");
+  WriteExr(path, m);
+  const cv::Mat r = ReadHdrImage(path);
+  ASSERT_EQ(r.size(), m.size());
+  EXPECT_EQ(cv::norm(r, m, cv::NORM_INF), 0.0);
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, OurExrMatchesOpenCvsDecoder) {
+  setenv("OPENCV_IO_ENABLE_OPENEXR", "1", 1);
+  const cv::Mat m = HdrRamp();
+  const std::string path = TempPath("cv.exr");
+  WriteExr(path, m);
+  cv::Mat bgr;
+  try {
+    bgr = cv::imread(path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+  }
+  if (bgr.empty()) GTEST_SKIP() << "this OpenCV build reads no EXR";
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  EXPECT_EQ(cv::norm(rgb, m, cv::NORM_INF), 0.0);
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, HalfExrKeepsElevenBitsAndSaturatesAboveItsRange) {
+  cv::Mat m = HdrRamp();
+  const std::string path = TempPath("half.exr");
+  WriteExr(path, m, ExrPixel::kHalf);
+  EXPECT_LT(std::filesystem::file_size(path), 7 * 9 * 3 * 4);
+  // Half's largest finite value is 65504: larger ones become inf, which the
+  // reader refuses, naming the file.
+  EXPECT_THROW(ReadHdrImage(path), Error);
+  m = cv::min(m, 6e4);
+  WriteExr(path, m, ExrPixel::kHalf);
+  const cv::Mat r = ReadHdrImage(path);
+  for (int i = 0; i < static_cast<int>(m.total()) * 3; ++i) {
+    const float a = m.ptr<float>()[i], b = r.ptr<float>()[i];
+    if (a > 6.1e-5f) {  // normal halves: 11-bit mantissa
+      EXPECT_LE(std::abs(b / a - 1), 1.0 / 2048) << a;
+    }
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, LuminanceOnlyExrReadsAsGrey) {
+  const std::string path = TempPath("y.exr");
+  std::vector<float> y = {0.5f, 2.0f, 1e5f, 3.0f, 4.0f, 5.0f};
+  {
+    Imf::Header h(3, 2);
+    h.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile f(path.c_str(), h);
+    Imf::FrameBuffer fb;
+    fb.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(y.data()), sizeof(float), 3 * sizeof(float)));
+    f.setFrameBuffer(fb);
+    f.writePixels(2);
+  }
+  const cv::Mat r = ReadHdrImage(path);
+  ASSERT_EQ(r.cols, 3);
+  ASSERT_EQ(r.rows, 2);
+  for (int i = 0; i < 6; ++i)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_EQ(r.at<cv::Vec3f>(i / 3, i % 3)[c], y[i]);
+    }
+  std::filesystem::remove(path);
+}
+
+TEST(ImageIo, ErrorsNameTheFile) {
+  const std::string path = TempPath("junk.exr");
+  { std::ofstream(path) << "not an exr"; }
+  try {
+    ReadHdrImage(path);
+    FAIL() << "junk accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+  }
+  std::filesystem::remove(path);
+  EXPECT_THROW(ReadHdrImage(TempPath("missing.exr")), Error);
+  EXPECT_THROW(ReadHdrImage(std::filesystem::temp_directory_path().string()), Error);
+}
+
+}  // namespace
+}  // namespace brdfshot
