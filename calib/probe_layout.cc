@@ -1,0 +1,157 @@
+#include "calib/probe_layout.h"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "util/check.h"
+
+namespace brdfshot {
+namespace {
+
+// Bilinear read of a lat-long probe at a direction, wrapping in longitude.
+cv::Vec3f ReadLatLong(const LatLongProbe& p, const Vec3& d) {
+  double col, row;
+  p.PixelAt(d, &col, &row);
+  const double x = col - 0.5, y = std::clamp(row - 0.5, 0.0, p.height() - 1.0);
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double fx = x - x0, fy = y - y0;
+  const int y1 = std::min(y0 + 1, p.height() - 1);
+  auto at = [&](int xx, int yy) { return p.Texel(((xx % p.width()) + p.width()) % p.width(), yy); };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y1) + fx * at(x0 + 1, y1));
+}
+
+}  // namespace
+
+LatLongProbe AngularMapToLatLong(const cv::Mat& angular, int width) {
+  BRDFSHOT_CHECK(angular.type() == CV_32FC3 && angular.cols == angular.rows && width >= 4 && width % 2 == 0);
+  const int height = width / 2, size = angular.cols;
+  cv::Mat mapx(height, width, CV_32F), mapy(height, width, CV_32F);
+  const LatLongProbe frame(cv::Mat(height, width, CV_32FC3, cv::Scalar::all(0)));
+  for (int row = 0; row < height; ++row)
+    for (int col = 0; col < width; ++col) {
+      const Vec3 d = frame.DirectionAt(col + 0.5, row + 0.5);
+      const double r = std::acos(std::clamp(-d.z, -1.0, 1.0)) / kPi, len = std::hypot(d.x, d.y);
+      const double u = len > 0 ? r * d.x / len : 0, v = len > 0 ? r * d.y / len : 0;
+      mapx.at<float>(row, col) = static_cast<float>((u + 1) / 2 * size - 0.5);
+      mapy.at<float>(row, col) = static_cast<float>((1 - v) / 2 * size - 0.5);
+    }
+  cv::Mat out;
+  cv::remap(angular, out, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  return LatLongProbe(out, "angular map");
+}
+
+cv::Mat LatLongToAngularMap(const LatLongProbe& probe, int size) {
+  cv::Mat out(size, size, CV_32FC3, cv::Scalar::all(0));
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const double u = 2 * (x + 0.5) / size - 1, v = 1 - 2 * (y + 0.5) / size, r = std::hypot(u, v);
+      if (r > 1) continue;
+      const double theta = r * kPi;  // angle from −Z
+      const double s = r > 0 ? std::sin(theta) / r : 0;
+      out.at<cv::Vec3f>(y, x) = ReadLatLong(probe, Vec3(u * s, v * s, -std::cos(theta)));
+    }
+  return out;
+}
+
+UnwrappedBall UnwrapMirrorBall(const cv::Mat& photo, double cx, double cy, double r, int width,
+                               const MirrorBallOptions& o) {
+  BRDFSHOT_CHECK(photo.type() == CV_32FC3 && r > 0 && width >= 4 && width % 2 == 0 && o.reflectance > 0);
+  const int height = width / 2;
+  const LatLongProbe frame(cv::Mat(height, width, CV_32FC3, cv::Scalar::all(0)));
+  cv::Mat mapx(height, width, CV_32F), mapy(height, width, CV_32F);
+  UnwrappedBall out;
+  out.measured = cv::Mat(height, width, CV_8U, cv::Scalar(0));
+  const double cos_max = std::cos(o.max_normal_deg * kPi / 180), cos_hole = std::cos(o.camera_hole_deg * kPi / 180);
+  for (int row = 0; row < height; ++row)
+    for (int col = 0; col < width; ++col) {
+      const Vec3 d = frame.DirectionAt(col + 0.5, row + 0.5);
+      const Vec3 h = d + Vec3(0, 0, 1);
+      const double len = Length(h);
+      const Vec3 n = len > 1e-9 ? h * (1 / len) : Vec3(1, 0, 0);
+      const double px = cx + r * n.x, py = cy - r * n.y;
+      const bool ok = n.z >= cos_max && (o.camera_hole_deg <= 0 || n.z < cos_hole) && px >= 0.5 &&
+                      py >= 0.5 && px <= photo.cols - 0.5 && py <= photo.rows - 0.5;
+      out.measured.at<uint8_t>(row, col) = ok ? 255 : 0;
+      mapx.at<float>(row, col) = static_cast<float>(px - 0.5);
+      mapy.at<float>(row, col) = static_cast<float>(py - 0.5);
+    }
+  cv::Mat ll;
+  cv::remap(photo, ll, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  ll /= o.reflectance;
+  ll.setTo(cv::Scalar::all(0), out.measured == 0);
+  out.probe = LatLongProbe(FillHoles(ll, out.measured), "mirror ball");
+  return out;
+}
+
+cv::Mat FillHoles(const cv::Mat& rgb, const cv::Mat& known) {
+  BRDFSHOT_CHECK(rgb.type() == CV_32FC3 && known.type() == CV_8U && known.size() == rgb.size());
+  // Push–pull: average the known texels down a pyramid until every cell has
+  // some, then fill each level's holes from the level above. Smooth, bounded
+  // by the known values, and fast; a probe's missing cap needs no more.
+  cv::Mat w;
+  known.convertTo(w, CV_32F, 1.0 / 255);
+  std::vector<cv::Mat> wsum = {w}, vsum;
+  {
+    std::vector<cv::Mat> w3 = {w, w, w};
+    cv::Mat w3m;
+    cv::merge(w3, w3m);
+    vsum.push_back(rgb.mul(w3m));
+  }
+  while (wsum.back().cols > 1 && wsum.back().rows > 1) {
+    double lo;
+    cv::minMaxLoc(wsum.back(), &lo);
+    if (lo > 0) break;
+    cv::Mat w2, v2;
+    const cv::Size half((wsum.back().cols + 1) / 2, (wsum.back().rows + 1) / 2);
+    cv::resize(wsum.back(), w2, half, 0, 0, cv::INTER_AREA);
+    cv::resize(vsum.back(), v2, half, 0, 0, cv::INTER_AREA);
+    wsum.push_back(w2);
+    vsum.push_back(v2);
+  }
+  // Top level: normalised average (cells with no weight at all get 0).
+  auto normalised = [](const cv::Mat& v, const cv::Mat& w) {
+    cv::Mat out(v.size(), CV_32FC3);
+    for (int y = 0; y < v.rows; ++y)
+      for (int x = 0; x < v.cols; ++x) {
+        const float ww = w.at<float>(y, x);
+        out.at<cv::Vec3f>(y, x) = ww > 0 ? v.at<cv::Vec3f>(y, x) / ww : cv::Vec3f(0, 0, 0);
+      }
+    return out;
+  };
+  cv::Mat filled = normalised(vsum.back(), wsum.back());
+  for (int l = static_cast<int>(wsum.size()) - 2; l >= 0; --l) {
+    cv::Mat up;
+    cv::resize(filled, up, wsum[l].size(), 0, 0, cv::INTER_LINEAR);
+    const cv::Mat here = normalised(vsum[l], wsum[l]);
+    filled = cv::Mat(here.size(), CV_32FC3);
+    for (int y = 0; y < here.rows; ++y)
+      for (int x = 0; x < here.cols; ++x) {
+        const float a = std::min(1.0f, wsum[l].at<float>(y, x));
+        filled.at<cv::Vec3f>(y, x) = a * here.at<cv::Vec3f>(y, x) + (1 - a) * up.at<cv::Vec3f>(y, x);
+      }
+  }
+  // Known texels keep their exact values.
+  rgb.copyTo(filled, known);
+  return filled;
+}
+
+cv::Mat RenderMirrorBall(const LatLongProbe& probe, int size) {
+  cv::Mat out(size, size, CV_32FC3, cv::Scalar::all(0));
+  const int ss = 4;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      cv::Vec3f sum(0, 0, 0);
+      for (int j = 0; j < ss; ++j)
+        for (int i = 0; i < ss; ++i) {
+          const double u = 2 * (x + (i + 0.5) / ss) / size - 1, v = 1 - 2 * (y + (j + 0.5) / ss) / size;
+          const double r2 = u * u + v * v;
+          if (r2 >= 1) continue;
+          const Vec3 n(u, v, std::sqrt(1 - r2));
+          sum += ReadLatLong(probe, Reflect(Vec3(0, 0, 1), n));
+        }
+      out.at<cv::Vec3f>(y, x) = sum / static_cast<float>(ss * ss);
+    }
+  return out;
+}
+
+}  // namespace brdfshot

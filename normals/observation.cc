@@ -1,0 +1,94 @@
+#include "normals/observation.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "util/atomic_file.h"
+#include "util/check.h"
+
+namespace brdfshot {
+namespace {
+constexpr char kMagic[8] = {'B', 'S', 'H', 'O', 'T', 'O', 'B', '1'};
+constexpr size_t kRecord = 8 + 12 + 48;
+}  // namespace
+
+void Observations::Write(const std::string& path) const {
+  const size_t P = geometry.size();
+  BRDFSHOT_CHECK(static_cast<size_t>(rgb.rows()) == P && rgb.cols() == 3);
+  nlohmann::json h = header;
+  h["format"] = "brdfshot-observations-1";
+  h["pixels"] = P;
+  h["width"] = geometry.width;
+  h["height"] = geometry.height;
+  const std::string hs = h.dump();
+  WriteFileAtomic(path, [&](std::ostream& out) {
+    out.write(kMagic, 8);
+    const uint64_t len = hs.size();
+    out.write(reinterpret_cast<const char*>(&len), 8);
+    out.write(hs.data(), hs.size());
+    for (size_t p = 0; p < P; ++p) {
+      char rec[kRecord];
+      const int32_t xy[2] = {geometry.x[p], geometry.y[p]};
+      const float c[3] = {static_cast<float>(rgb(p, 0)), static_cast<float>(rgb(p, 1)), static_cast<float>(rgb(p, 2))};
+      const double d[6] = {geometry.normal[p].x, geometry.normal[p].y, geometry.normal[p].z,
+                           geometry.view[p].x,   geometry.view[p].y,   geometry.view[p].z};
+      std::memcpy(rec, xy, 8);
+      std::memcpy(rec + 8, c, 12);
+      std::memcpy(rec + 20, d, 48);
+      out.write(rec, kRecord);
+    }
+  });
+}
+
+Observations Observations::Read(const std::string& path) { return Parse(ReadFileBytes(path), path); }
+
+Observations Observations::Parse(const std::string& bytes, const std::string& name) {
+  if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 8) != 0)
+    throw FileError(name, "not a brdfshot observation file (bad magic)");
+  uint64_t len;
+  std::memcpy(&len, bytes.data() + 8, 8);
+  if (len > bytes.size() - 16) throw FileError(name, "truncated header");
+  Observations o;
+  uint64_t P;
+  try {
+    o.header = nlohmann::json::parse(bytes.substr(16, len));
+    if (o.header.at("format") != "brdfshot-observations-1") throw FileError(name, "unknown observation format");
+    P = o.header.at("pixels").get<uint64_t>();
+    o.geometry.width = o.header.at("width");
+    o.geometry.height = o.header.at("height");
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(name, std::string("bad header: ") + e.what());
+  }
+  if (P > (1ull << 28) || o.geometry.width <= 0 || o.geometry.height <= 0 || o.geometry.width > (1 << 20) ||
+      o.geometry.height > (1 << 20))
+    throw FileError(name, "absurd size in header");
+  if (P == 0) throw FileError(name, "holds no pixels");
+  if (bytes.size() != 16 + len + P * kRecord)
+    throw FileError(name, "size " + std::to_string(bytes.size()) + " does not match its " + std::to_string(P) +
+                              " pixels: truncated or corrupt");
+  o.rgb.resize(P, 3);
+  const char* p = bytes.data() + 16 + len;
+  for (size_t i = 0; i < P; ++i, p += kRecord) {
+    int32_t xy[2];
+    float c[3];
+    double d[6];
+    std::memcpy(xy, p, 8);
+    std::memcpy(c, p + 8, 12);
+    std::memcpy(d, p + 20, 48);
+    if (xy[0] < 0 || xy[1] < 0 || xy[0] >= o.geometry.width || xy[1] >= o.geometry.height)
+      throw FileError(name, "pixel " + std::to_string(i) + " lies outside the image");
+    const Vec3 n(d[0], d[1], d[2]), v(d[3], d[4], d[5]);
+    if (!(std::abs(Length(n) - 1) < 1e-6) || !(std::abs(Length(v) - 1) < 1e-6))
+      throw FileError(name, "pixel " + std::to_string(i) + " has a non-unit normal or view direction");
+    if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
+      throw FileError(name, "pixel " + std::to_string(i) + " has non-finite radiance");
+    o.geometry.x.push_back(xy[0]);
+    o.geometry.y.push_back(xy[1]);
+    o.geometry.normal.push_back(n);
+    o.geometry.view.push_back(v);
+    for (int k = 0; k < 3; ++k) o.rgb(i, k) = c[k];
+  }
+  return o;
+}
+
+}  // namespace brdfshot
