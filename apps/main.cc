@@ -13,6 +13,9 @@ namespace po = boost::program_options;
 const std::vector<Command>& Commands() {
   static const std::vector<Command> kCommands = {
       {"merge", "bracketed frames (LDR + EXIF/times, or RAW) to linear HDR EXR + mask + sidecar", MergeMain},
+      {"calib", "light probe to lat-long (lat-long, angular map, mirror ball), rotation and scale to the camera", CalibMain},
+      {"normals", "find the sphere in a photo to sub-pixel accuracy: sphere file + overlay", NormalsMain},
+      {"remap", "photo + sphere + calibration -> observation file (radiance, normal, view in the probe frame)", RemapMain},
       {"synth-db", "write the analytic stand-in materials as MERL .binary files", SynthDbMain},
       {"nbrdf-db", "write MERL's materials from their neural fits as MERL .binary files", NbrdfDbMain},
       {"render", "render one BRDF on a sphere under a probe (EXR + PNG)", RenderMain},

@@ -34,7 +34,7 @@ class RimProfileModel {
   const std::vector<double>& ramp1_;  // R_1 on u ∈ [−8, 64), step 1/64 (shared table)
 };
 
-// The optical blur σ (0.5–4 px, steps of 1/8): the median over rays of the σ
+// The optical blur σ (0.5–4 px, to 1/8 px): the median over rays of the σ
 // that fits each best.
 double EstimateRimBlur(const std::vector<const float*>& profiles, int n, double r0, double step,
                        const std::vector<double>& guesses);

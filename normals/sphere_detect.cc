@@ -32,7 +32,7 @@ cv::Mat LogLuminance(const cv::Mat& rgb) {
 
 std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
                                           double r_hi, int rays, double* rim_blur) {
-  BRDFSHOT_CHECK(image.type() == CV_32F && rays > 0 && r_hi > r_lo && r_lo >= 0);
+  BRDFSHOT_CHECK((image.type() == CV_32F || image.type() == CV_32FC3) && rays > 0 && r_hi > r_lo && r_lo >= 0);
   const double step = 0.25;  // pixels along the ray
   const int n = static_cast<int>((r_hi - r_lo) / step) + 1;
   // One remap for all rays: rows are rays, columns radii. remap's pixel centres
@@ -48,6 +48,8 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
   }
   cv::Mat prof;
   cv::remap(image, prof, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  // Luminance of the samples only: a 12 MP photo is never converted whole.
+  if (prof.channels() == 3) cv::transform(prof, prof, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
   // Smooth along the ray over about a pixel: bilinear samples at ¼ px are
   // piecewise linear, and their raw differences would lock onto pixel edges.
   cv::GaussianBlur(prof, prof, cv::Size(9, 1), 2.0, 0, cv::BORDER_REPLICATE);
@@ -82,7 +84,7 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
     // spread of them.
     std::vector<const float*> sample;
     std::vector<double> guesses;
-    for (int k = 0; k < rays; k += std::max(1, rays / 48))
+    for (int k = 0; k < rays; k += std::max(1, rays / 32))
       if (where[k] >= 0 && strength[k] >= min_strength) sample.push_back(prof.ptr<float>(k)), guesses.push_back(where[k]);
     *rim_blur = EstimateRimBlur(sample, n, r_lo, step, guesses);
     const RimProfileModel model(*rim_blur);
@@ -100,32 +102,36 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
   return pts;
 }
 
-namespace {
-
-// The reduced copy the coarse search works on, and its scale to full resolution.
-double Reduce(const cv::Mat& log_lum, int max_side, cv::Mat* small) {
-  const double scale = std::min(1.0, double(max_side) / std::max(log_lum.cols, log_lum.rows));
-  if (scale < 1) {
-    cv::resize(log_lum, *small, cv::Size(), scale, scale, cv::INTER_AREA);
+std::vector<Circle> HoughCandidates(const cv::Mat& rgb, const SphereDetectOptions& o) {
+  // Reduce first (an area average of linear radiance is the physically right
+  // downsampling) and take the log of the small copy only: a 12 MP photo is
+  // never converted whole.
+  cv::Mat f, small;
+  if (rgb.depth() == CV_32F) {
+    f = rgb;
   } else {
-    *small = log_lum;
+    rgb.convertTo(f, CV_32F);
   }
-  return scale;
-}
-
-}  // namespace
-
-std::vector<Circle> HoughCandidates(const cv::Mat& log_lum, const SphereDetectOptions& o) {
+  // An integer factor: OpenCV's area resampling has a fast path for it (a
+  // 12 MP photo reduces in ~10 ms instead of ~400).
+  const int factor = std::max(1, (std::max(rgb.cols, rgb.rows) + o.coarse_max_side - 1) / o.coarse_max_side);
+  if (factor > 1) {
+    cv::resize(f, small, cv::Size(rgb.cols / factor, rgb.rows / factor), 0, 0, cv::INTER_AREA);
+  } else {
+    small = f;
+  }
+  const double scale0 = double(small.cols) / rgb.cols;
+  cv::Mat ll = LogLuminance(small);
   std::vector<Circle> out;
   // Two scales: at the coarser one a large, blurred rim is still a sharp
   // circle to the gradient voting (a 224 px ball at σ = 2 px is missed at 512).
-  for (int max_side : {o.coarse_max_side, o.coarse_max_side / 2}) {
-    cv::Mat small;
-    const double scale = Reduce(log_lum, max_side, &small);
+  for (int level = 0; level < 2; ++level) {
+    if (level) cv::resize(ll, ll, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    const double scale = scale0 * (level ? 0.5 : 1.0);
     double lo, hi;
-    cv::minMaxLoc(small, &lo, &hi);
+    cv::minMaxLoc(ll, &lo, &hi);
     cv::Mat u8;
-    small.convertTo(u8, CV_8U, 255.0 / std::max(hi - lo, 1e-6), -lo * 255.0 / std::max(hi - lo, 1e-6));
+    ll.convertTo(u8, CV_8U, 255.0 / std::max(hi - lo, 1e-6), -lo * 255.0 / std::max(hi - lo, 1e-6));
     const int side = std::min(u8.cols, u8.rows);
     std::vector<cv::Vec3f> found;
     // Gradient-alt: param2 is how perfect a circle must be (1 = perfect).
@@ -137,14 +143,18 @@ std::vector<Circle> HoughCandidates(const cv::Mat& log_lum, const SphereDetectOp
   return out;
 }
 
-SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
-  const cv::Mat ll = LogLuminance(rgb);
-  // The sub-pixel edge is found in linear luminance: blur is linear there, so a
+SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o) {
+  if (rgb_in.channels() != 3) throw Error("sphere detection wants an RGB image");
+  cv::Mat lin;
+  if (rgb_in.depth() == CV_32F) {
+    lin = rgb_in;
+  } else {
+    rgb_in.convertTo(lin, CV_32F);
+  }
+  const std::vector<Circle> cands = HoughCandidates(lin, o);
+  // Rim profiles are sampled from the linear image: blur is linear there, so a
   // blurred step's steepest point is the step. In log it shifts towards the
   // darker side by a fraction of the blur (0.3–0.5 px measured here).
-  cv::Mat lin;
-  cv::exp(ll, lin);
-  const std::vector<Circle> cands = HoughCandidates(ll, o);
   // Rank the candidates by rim support: the fraction of rays with a strong
   // edge within a few percent of their radius, measured at full resolution.
   SphereDetection det;
@@ -153,7 +163,7 @@ SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
     const Circle& c = cands[i];
     const double band = std::max(4.0, 0.06 * c.r);
     const std::vector<cv::Point2d> pts =
-        RadialEdgePoints(ll, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90);
+        RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90);
     int near = 0;
     for (const auto& p : pts) near += std::abs(std::hypot(p.x - c.cx, p.y - c.cy) - c.r) < band;
     // A sphere is usually the largest closed rim in the picture: score the
@@ -165,7 +175,7 @@ SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
   if (best == 0)
     throw Error("no sphere found (" + std::to_string(cands.size()) + " circle candidates, best rim support " +
                 std::to_string(static_cast<int>(100 * best_support)) + " %, need 50 %)");
-  det.principal = o.principal.x >= 0 ? o.principal : cv::Point2d(rgb.cols / 2.0, rgb.rows / 2.0);
+  det.principal = o.principal.x >= 0 ? o.principal : cv::Point2d(lin.cols / 2.0, lin.rows / 2.0);
   det.focal_px = o.focal_px;
   det.perspective = o.focal_px > 0;
   Circle c = det.coarse;

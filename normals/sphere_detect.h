@@ -50,7 +50,8 @@ cv::Mat LogLuminance(const cv::Mat& rgb);
 // Throws Error("no sphere found ...") when no candidate has a closed rim.
 SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& options = {});
 
-// Edge points along `rays` radial profiles of `image` (one channel, float)
+// Edge points along `rays` radial profiles of `image` (float, one channel or
+// RGB — then the luminance of the samples)
 // between radii r_lo and r_hi around `centre` (continuous coordinates): the
 // steepest point of each, or — when `rim_blur` is given — the rim model's fit
 // (rim_profile.h) around it, with the blur it estimated written there. Rays

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "normals/synthetic_sphere.h"
@@ -24,8 +25,14 @@ TEST(SphereDetect, OrthographicSubPixelAndBetterThanHough) {
     s.noise = 0.01;
     const cv::Mat img = RenderSyntheticSphere(s);
     const SphereDetection d = DetectSphere(img);
-    const std::vector<Circle> hough = HoughCandidates(LogLuminance(img), {});
+    // HoughCircles alone: of all its candidates, the one nearest the truth
+    // (an oracle's pick — the most favourable reading of Hough's accuracy).
+    std::vector<Circle> hough = HoughCandidates(img, {});
     ASSERT_FALSE(hough.empty());
+    std::sort(hough.begin(), hough.end(), [&](const Circle& a, const Circle& b) {
+      return std::max(CentreError(a, s.circle), std::abs(a.r - s.circle.r)) <
+             std::max(CentreError(b, s.circle), std::abs(b.r - s.circle.r));
+    });
     const double e = std::max(CentreError(d.circle, s.circle), std::abs(d.circle.r - s.circle.r));
     const double eh = std::max(CentreError(hough[0], s.circle), std::abs(hough[0].r - s.circle.r));
     std::printf("seed %d r %.1f: ours %.3f px (%d/%d inliers), Hough %.3f px\n", seed, s.circle.r, e,

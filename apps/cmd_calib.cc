@@ -1,0 +1,89 @@
+// brdfshot calib: the light probe in the pipeline's lat-long frame and its
+// relation to the camera: layout conversion (lat-long, angular map, mirror
+// ball), rotation camera → probe, radiometric scale photo units per probe unit.
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "apps/command.h"
+#include "apps/common_options.h"
+#include "calib/probe_layout.h"
+#include "normals/sphere_detect.h"
+#include "util/atomic_file.h"
+#include "util/check.h"
+#include "util/image_io.h"
+#include "util/rotation.h"
+
+namespace brdfshot {
+namespace po = boost::program_options;
+
+int CalibMain(int argc, char** argv) {
+  std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar;
+  double scale = 1;
+  int width = 0;
+  MirrorBallOptions ball;
+  po::options_description desc("options");
+  desc.add_options()
+      ("probe,p", po::value(&probe_path)->required(), "probe image (.exr/.hdr/.pfm)")
+      ("layout", po::value(&layout)->default_value(layout), "latlong | angular | mirrorball (a photo of a chrome ball)")
+      ("width", po::value(&width)->default_value(0), "lat-long width to write (0: as given, 512 for converted layouts)")
+      ("rotate", po::value(&rotate)->default_value(rotate), "camera → probe rotation as yaw,pitch,roll degrees (util/rotation.h)")
+      ("scale", po::value(&scale)->default_value(scale), "photo radiance per probe radiance (exposure ratio)")
+      ("ball-reflectance", po::value(&ball.reflectance)->default_value(ball.reflectance), "mirror ball reflectance")
+      ("ball-max-angle", po::value(&ball.max_normal_deg)->default_value(ball.max_normal_deg), "ball normals beyond this (deg) are the unreliable rim")
+      ("ball-camera-hole", po::value(&ball.camera_hole_deg)->default_value(ball.camera_hole_deg), "ball normals within this (deg) of the camera show the camera: filled in")
+      ("sidecar", po::value(&sidecar), "calibration JSON (default: <out>.json)")
+      ("out,o", po::value(&out)->default_value(out), "lat-long probe (EXR)");
+  if (!ParseOptions("calib", "--probe P [--layout L] [--rotate y,p,r] [--scale s] [options]", desc, argc, argv)) return 0;
+  if (sidecar.empty()) sidecar = std::filesystem::path(out).replace_extension(".json").string();
+  const std::vector<std::string> angles = SplitList(rotate);
+  if (angles.size() != 3) throw Error("bad --rotate '" + rotate + "': expected yaw,pitch,roll in degrees");
+  double a[3];
+  for (int i = 0; i < 3; ++i) {
+    try {
+      a[i] = std::stod(angles[i]);
+    } catch (const std::exception&) {
+      throw Error("bad --rotate '" + rotate + "': expected three numbers");
+    }
+  }
+  if (!(scale > 0)) throw Error("--scale must be positive");
+  const Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
+  nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};
+  LatLongProbe probe;
+  if (layout == "latlong") {
+    probe = LatLongProbe::Read(probe_path);
+    if (width > 0) probe = probe.Resized(width);
+  } else if (layout == "angular") {
+    const cv::Mat img = ReadHdrImage(probe_path);
+    if (img.cols != img.rows) throw FileError(probe_path, "an angular map must be square");
+    probe = AngularMapToLatLong(img, width > 0 ? width : 512);
+  } else if (layout == "mirrorball") {
+    const cv::Mat img = ReadHdrImage(probe_path);
+    SphereDetection det;
+    try {
+      det = DetectSphere(img);
+    } catch (const Error& e) {
+      throw FileError(probe_path, e.what());
+    }
+    const UnwrappedBall u = UnwrapMirrorBall(img, det.circle.cx, det.circle.cy, det.circle.r, width > 0 ? width : 512, ball);
+    probe = u.probe;
+    j["ball"] = {{"cx", det.circle.cx}, {"cy", det.circle.cy}, {"r", det.circle.r}, {"reflectance", ball.reflectance},
+                 {"max_normal_deg", ball.max_normal_deg}, {"camera_hole_deg", ball.camera_hole_deg},
+                 {"measured_fraction", cv::countNonZero(u.measured) / double(u.measured.total())}};
+  } else {
+    throw Error("unknown --layout '" + layout + "': expected latlong, angular or mirrorball");
+  }
+  WriteExr(out, probe.rgb());
+  j["probe"] = out;
+  j["width"] = probe.width();
+  j["rotation_camera_to_probe"] = rot.m;
+  j["yaw_pitch_roll_deg"] = {a[0], a[1], a[2]};
+  j["scale"] = scale;
+  WriteFileAtomic(sidecar, [&](std::ostream& s) { s << j.dump(1) << "\n"; });
+  std::printf("probe %s (%s) -> %dx%d lat-long; rotation yaw %.2f pitch %.2f roll %.2f deg, scale %g\nwrote %s, %s\n",
+              probe_path.c_str(), layout.c_str(), probe.width(), probe.height(), a[0], a[1], a[2], scale, out.c_str(),
+              sidecar.c_str());
+  return 0;
+}
+
+}  // namespace brdfshot

@@ -1,0 +1,85 @@
+// brdfshot normals: find the sphere in a photo (coarse Hough, sub-pixel rim),
+// write its camera model as JSON, an overlay picture and the sphere's mask.
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "apps/command.h"
+#include "normals/sphere_detect.h"
+#include "normals/sphere_view.h"
+#include "util/atomic_file.h"
+#include "util/check.h"
+#include "util/image_io.h"
+#include "util/progress.h"
+
+namespace brdfshot {
+namespace po = boost::program_options;
+
+int NormalsMain(int argc, char** argv) {
+  std::string photo_path, out = "sphere.json", overlay;
+  SphereDetectOptions o;
+  double focal_35mm = 0;
+  po::options_description desc("options");
+  desc.add_options()
+      ("photo", po::value(&photo_path)->required(), "linear HDR photo (EXR/HDR/PFM) or an 8/16-bit image")
+      ("focal-px", po::value(&o.focal_px)->default_value(0), "focal length in pixels: perspective model (0: orthographic)")
+      ("focal-35mm", po::value(&focal_35mm)->default_value(0), "35 mm-equivalent focal length (EXIF FocalLengthIn35mmFilm) instead of --focal-px")
+      ("rays", po::value(&o.rays)->default_value(o.rays), "radial profiles for the sub-pixel rim")
+      ("overlay", po::value(&overlay), "picture of the detection (default: <out>.png)")
+      ("out,o", po::value(&out)->default_value(out), "sphere file (JSON) for 'brdfshot remap'");
+  po::positional_options_description pos;
+  pos.add("photo", 1);
+  if (!ParseOptions("normals", "PHOTO [options]", desc, argc, argv, &pos)) return 0;
+  if (overlay.empty()) overlay = std::filesystem::path(out).replace_extension(".png").string();
+  cv::Mat rgb;
+  const std::string ext = std::filesystem::path(photo_path).extension().string();
+  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") {
+    rgb = ReadHdrImage(photo_path);
+  } else {
+    const cv::Mat bgr = cv::imread(photo_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
+    if (bgr.empty()) throw FileError(photo_path, "cannot decode image");
+    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+    rgb.convertTo(rgb, CV_32FC3);
+  }
+  if (focal_35mm > 0) o.focal_px = focal_35mm / 36.0 * std::max(rgb.cols, rgb.rows);
+  Stopwatch sw;
+  SphereDetection det;
+  try {
+    det = DetectSphere(rgb, o);
+  } catch (const Error& e) {
+    throw FileError(photo_path, e.what());
+  }
+  const double secs = sw.Seconds();
+  SphereView v;
+  v.width = rgb.cols;
+  v.height = rgb.rows;
+  v.circle = det.circle;
+  v.perspective = det.perspective;
+  v.focal_px = det.focal_px;
+  v.principal = det.principal;
+  v.cone = det.cone;
+  nlohmann::json j = v.ToJson();
+  j["photo"] = photo_path;
+  j["fit"] = {{"edge_points", det.quality.points}, {"inliers", det.quality.inliers}, {"rms_px", det.quality.rms_px},
+              {"blur_sigma_px", det.blur_sigma}, {"coarse", {det.coarse.cx, det.coarse.cy, det.coarse.r}},
+              {"seconds", secs}};
+  WriteFileAtomic(out, [&](std::ostream& s) { s << j.dump(1) << "\n"; });
+  // Overlay: the photo, the rim points used (green) and the fitted rim (red).
+  cv::Mat shown = rgb * AutoExposure(rgb), png;
+  cv::pow(cv::max(shown, 0), 1 / 2.2, shown);
+  shown.convertTo(png, CV_8UC3, 255);
+  cv::cvtColor(png, png, cv::COLOR_RGB2BGR);
+  for (const auto& p : det.edge_points) cv::circle(png, cv::Point(int(p.x), int(p.y)), 1, {0, 200, 0}, cv::FILLED);
+  cv::circle(png, cv::Point(int(v.circle.cx * 16), int(v.circle.cy * 16)), int(v.circle.r * 16), {0, 0, 255}, 1,
+             cv::LINE_AA, 4);
+  WritePng(overlay, png);
+  std::printf("sphere in %s: centre (%.2f, %.2f) radius %.2f px (%s), %d/%d rim points, rms %.3f px, blur %.2f px, %.0f ms\n"
+              "wrote %s, %s\n",
+              photo_path.c_str(), v.circle.cx, v.circle.cy, v.circle.r, v.perspective ? "perspective" : "orthographic",
+              det.quality.inliers, det.quality.points, det.quality.rms_px, det.blur_sigma, 1000 * secs, out.c_str(),
+              overlay.c_str());
+  return 0;
+}
+
+}  // namespace brdfshot
