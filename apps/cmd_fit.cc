@@ -11,6 +11,7 @@
 #include "fit/class_model.h"
 #include "fit/solver.h"
 #include "fit/transport.h"
+#include "normals/observation.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_io.h"
@@ -22,19 +23,23 @@ namespace po = boost::program_options;
 int FitMain(int argc, char** argv) {
   DatabaseArgs db;
   QualityArgs quality;
-  std::string basis_path, photo_path, classes_path, out = "fit_out", previews;
+  std::string basis_path, photo_path, obs_path, classes_path, out = "fit_out", previews;
   double lambda = 0.5;
   po::options_description desc("options");
   desc.add_options()
       ("basis,b", po::value(&basis_path)->required(), "basis-image cache from 'brdfshot basis'")
-      ("photo", po::value(&photo_path)->required(), "linear HDR photo (EXR) aligned with the basis images' pixels")
+      ("photo", po::value(&photo_path), "linear HDR photo (EXR) aligned with the basis images' pixels")
+      ("obs", po::value(&obs_path), "observation file (from 'brdfshot remap') instead of --photo")
       ("classes,c", po::value(&classes_path)->required(), "class model from 'brdfshot cluster'")
       ("lambda", po::value(&lambda)->default_value(lambda), "regularisation weight (paper: 0.5)")
       ("out,o", po::value(&out)->default_value(out), "output folder")
       ("preview-probes", po::value(&previews), "probes to relight the result under (default: two of <data>/envmaps)");
   db.Add(desc);
   quality.Add(desc);
-  if (!ParseOptions("fit", "--basis Y.bsbi --photo photo.exr --classes classes.json [options]", desc, argc, argv)) return 0;
+  if (!ParseOptions("fit", "--basis Y.bsbi (--photo photo.exr | --obs obs.bsobs) --classes classes.json [options]",
+                    desc, argc, argv))
+    return 0;
+  if (photo_path.empty() == obs_path.empty()) throw Error("fit: give exactly one of --photo and --obs");
   MakeOutputDir(out);
 
   const BasisImages basis = BasisImages::Read(basis_path);
@@ -57,15 +62,24 @@ int FitMain(int argc, char** argv) {
     if (cj["bases"][i]["name"] != names[i])
       throw FileError(classes_path, "basis " + std::to_string(i) + " is '" + cj["bases"][i]["name"].get<std::string>() +
                                         "', the basis images have '" + names[i] + "'");
-  const cv::Mat photo = ReadHdrImage(photo_path);
-  if (photo.cols != basis.geometry.width || photo.rows != basis.geometry.height)
-    throw FileError(photo_path, "is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
-                                    ", the basis images are for " + std::to_string(basis.geometry.width) + "x" +
-                                    std::to_string(basis.geometry.height));
   Eigen::MatrixXd y(basis.geometry.size(), 3);
-  for (size_t p = 0; p < basis.geometry.size(); ++p) {
-    const cv::Vec3f v = photo.at<cv::Vec3f>(basis.geometry.y[p], basis.geometry.x[p]);
-    for (int c = 0; c < 3; ++c) y(p, c) = v[c];
+  if (!obs_path.empty()) {
+    const Observations obs = Observations::Read(obs_path);
+    if (obs.geometry.Hash() != basis.geometry.Hash())
+      throw FileError(obs_path, "its pixels are not the ones " + basis_path +
+                                    " was computed for: run 'brdfshot basis --obs " + obs_path + "'");
+    y = obs.rgb;
+    photo_path = obs_path;
+  } else {
+    const cv::Mat photo = ReadHdrImage(photo_path);
+    if (photo.cols != basis.geometry.width || photo.rows != basis.geometry.height)
+      throw FileError(photo_path, "is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
+                                      ", the basis images are for " + std::to_string(basis.geometry.width) + "x" +
+                                      std::to_string(basis.geometry.height));
+    for (size_t p = 0; p < basis.geometry.size(); ++p) {
+      const cv::Vec3f v = photo.at<cv::Vec3f>(basis.geometry.y[p], basis.geometry.x[p]);
+      for (int c = 0; c < 3; ++c) y(p, c) = v[c];
+    }
   }
 
   Stopwatch sw;

@@ -1,6 +1,7 @@
 // brdfshot render: one BRDF on a sphere under a probe, to EXR + tone-mapped PNG.
 #include <cstdio>
 #include <filesystem>
+#include <opencv2/core.hpp>
 
 #include "apps/brdf_source.h"
 #include "apps/command.h"
@@ -18,14 +19,15 @@ int RenderMain(int argc, char** argv) {
   QualityArgs quality;
   BrdfSourceArgs src;
   std::string probe_path, out = "render.exr";
-  int sphere = 256;
+  int sphere = 256, pad = 0;
   double exposure = 0;
   po::options_description desc("options");
   desc.add_options()
       ("probe,p", po::value(&probe_path)->required(), "lat-long light probe")
       ("out,o", po::value(&out)->default_value(out), "EXR output (a tone-mapped .png is written beside it)")
       ("sphere", po::value(&sphere)->default_value(sphere), "sphere diameter in pixels")
-      ("exposure", po::value(&exposure)->default_value(0), "PNG exposure scale (0: automatic)");
+      ("exposure", po::value(&exposure)->default_value(0), "PNG exposure scale (0: automatic)")
+      ("pad", po::value(&pad)->default_value(0), "black border in pixels around the sphere (a photo to detect it in)");
   src.Add(desc);
   db.Add(desc);
   quality.Add(desc);
@@ -37,7 +39,8 @@ int RenderMain(int argc, char** argv) {
   const MerlBrdf brdf = src.Load(db, &label);
   const LatLongProbe probe = LatLongProbe::Read(probe_path);
   const PixelGeometry g = OrthographicSphere(sphere, 89.5);
-  const cv::Mat img = PixelsToImage(g, TransportOperator::Build(g, probe, brdf.grid(), quality.q).Render(brdf));
+  cv::Mat img = PixelsToImage(g, TransportOperator::Build(g, probe, brdf.grid(), quality.q).Render(brdf));
+  if (pad > 0) cv::copyMakeBorder(img, img, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar::all(0));
   WriteExr(out, img);
   const std::string png = std::filesystem::path(out).replace_extension(".png").string();
   WritePngTonemapped(png, img, exposure > 0 ? exposure : AutoExposure(img));

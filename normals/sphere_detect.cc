@@ -197,6 +197,13 @@ SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o
       c = FitCircleRobust(det.edge_points, &det.quality);
     }
   }
+  // A sphere's rim fits its circle to a fraction of a pixel along most rays;
+  // a circle found in clutter or a probe does not.
+  if (det.quality.rms_px > 1.0 || det.quality.inliers < 0.3 * o.rays)
+    throw Error("no sphere found: the best circle's rim fits to " + std::to_string(det.quality.rms_px) +
+                " px rms over " + std::to_string(det.quality.inliers) + " of " + std::to_string(o.rays) +
+                " rays (need ≤ 1 px over 30 %)" +
+                (det.perspective ? "" : "; if the sphere is seen in perspective, give the focal length"));
   det.circle = c;
   return det;
 }

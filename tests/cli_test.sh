@@ -50,5 +50,23 @@ check fit 0 "chosen class" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo
 err=$("$B" compare "$T/photo.exr" "$T/relit.exr" | sed 's/relative RMSE \([0-9.]*\).*/\1/')
 awk -v e="$err" 'BEGIN{exit !(e < 0.05)}' && pass=$((pass+1)) || { echo "FAIL relit error $err >= 0.05"; fail=$((fail+1)); }
 check photo-size 1 "basis images are for" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$PROBE" --classes "$T/c.json" -o "$T/fit2"
+# The staged chain: detect the sphere in a padded render, remap, basis and fit on the observations.
+check render-pad 0 "wrote" -- "$B" render --standin demo-steel $DB --probe "$PROBE" --sphere 64 --pad 20 -o "$T/padded.exr"
+check normals 0 "rim points" -- "$B" normals "$T/padded.exr" -o "$T/sphere.json"
+[ -s "$T/sphere.png" ] && pass=$((pass+1)) || { echo "FAIL normals overlay"; fail=$((fail+1)); }
+check normals-none 1 "no sphere found" -- "$B" normals "$PROBE" -o "$T/none.json"
+check calib 0 "rotation yaw 10.00" -- "$B" calib --probe "$PROBE" --rotate 10,0,0 -o "$T/probe.exr"
+check calib-bad-rotate 1 "bad --rotate" -- "$B" calib --probe "$PROBE" --rotate 10,0 -o "$T/probe2.exr"
+check calib-bad-layout 1 "unknown --layout" -- "$B" calib --probe "$PROBE" --layout cube -o "$T/probe2.exr"
+check remap 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" --calib "$T/probe.json" -o "$T/obs.bsobs"
+check remap-size 1 "sphere.json: is for a 104x104 photo" -- "$B" remap --photo "$T/photo.exr" --sphere "$T/sphere.json" -o "$T/obs2.bsobs"
+check remap-notjson 1 "bad.binary: not JSON" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/bad.binary" -o "$T/obs2.bsobs"
+check basis-obs 0 "wrote" -- "$B" basis $DB --probe "$T/probe.exr" --obs "$T/obs.bsobs" -o "$T/bo.bsbi"
+check fit-obs 0 "chosen class" -- "$B" fit $DB --basis "$T/bo.bsbi" --obs "$T/obs.bsobs" --classes "$T/c.json" --preview-probes "$PROBE" -o "$T/fito"
+check fit-obs-mismatch 1 "are not the ones" -- "$B" fit $DB --basis "$T/b.bsbi" --obs "$T/obs.bsobs" --classes "$T/c.json" -o "$T/fito2"
+check fit-both 1 "exactly one of --photo and --obs" -- "$B" fit $DB --basis "$T/b.bsbi" --obs "$T/obs.bsobs" --photo "$T/photo.exr" --classes "$T/c.json" -o "$T/fito3"
+check obs-bad 1 "bad.binary: not a brdfshot observation file" -- "$B" basis $DB --probe "$PROBE" --obs "$T/bad.binary" -o "$T/bo2.bsbi"
+# bench-merge runs end to end on a small scene and beats OpenCV's Debevec there.
+check bench-merge 0 "wrote" -- "$B" bench-merge --probes "$PROBE" --size 128x64 --methods ours,cv-debevec -o "$T/bm"
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]
