@@ -1,11 +1,11 @@
 #include "apps/brdf_source.h"
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "fit/database.h"
 #include "fit/nbrdf.h"
 #include "fit/standin.h"
+#include "util/atomic_file.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -28,11 +28,8 @@ MerlBrdf BrdfSourceArgs::Load(const DatabaseArgs& db, std::string* label) const 
   }
   DatabaseOptions opt = db.ToOptions(false);
   if (!weights.empty()) {
-    std::ifstream in(weights);
-    if (!in) throw FileError(weights, "cannot open");
-    nlohmann::json j;
+    const nlohmann::json j = ReadJsonFile(weights);
     try {
-      in >> j;
       opt.kind = j.at("database_kind");
       const auto g = j.at("grid");
       opt.grid = MerlGrid{g.at(0), g.at(1), g.at(2)};

@@ -36,16 +36,7 @@ int CalibMain(int argc, char** argv) {
       ("out,o", po::value(&out)->default_value(out), "lat-long probe (EXR)");
   if (!ParseOptions("calib", "--probe P [--layout L] [--rotate y,p,r] [--scale s] [options]", desc, argc, argv)) return 0;
   if (sidecar.empty()) sidecar = std::filesystem::path(out).replace_extension(".json").string();
-  const std::vector<std::string> angles = SplitList(rotate);
-  if (angles.size() != 3) throw Error("bad --rotate '" + rotate + "': expected yaw,pitch,roll in degrees");
-  double a[3];
-  for (int i = 0; i < 3; ++i) {
-    try {
-      a[i] = std::stod(angles[i]);
-    } catch (const std::exception&) {
-      throw Error("bad --rotate '" + rotate + "': expected three numbers");
-    }
-  }
+  const std::vector<double> a = ParseNumberList(rotate, 3, "--rotate", "yaw,pitch,roll in degrees");
   if (!(scale > 0)) throw Error("--scale must be positive");
   const Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
   nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};

@@ -1,7 +1,6 @@
 // brdfshot fit: the class-wise solve for one photo (paper sec. 4).
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <opencv2/imgproc.hpp>
 
 #include "apps/command.h"
@@ -44,16 +43,7 @@ int FitMain(int argc, char** argv) {
 
   const BasisImages basis = BasisImages::Read(basis_path);
   const std::vector<std::string> names = basis.BasisNames();
-  nlohmann::json cj;
-  {
-    std::ifstream in(classes_path);
-    if (!in) throw FileError(classes_path, "cannot open class model");
-    try {
-      in >> cj;
-    } catch (const nlohmann::json::exception& e) {
-      throw FileError(classes_path, std::string("not JSON: ") + e.what());
-    }
-  }
+  const nlohmann::json cj = ReadJsonFile(classes_path);
   const ClassModel model = ClassModel::FromJson(cj, classes_path);
   if (model.label.size() != names.size())
     throw FileError(classes_path, "has " + std::to_string(model.label.size()) + " bases, the basis images " +

@@ -66,10 +66,7 @@ int NormalsMain(int argc, char** argv) {
               {"seconds", secs}};
   WriteFileAtomic(out, [&](std::ostream& s) { s << j.dump(1) << "\n"; });
   // Overlay: the photo, the rim points used (green) and the fitted rim (red).
-  cv::Mat shown = rgb * AutoExposure(rgb), png;
-  cv::pow(cv::max(shown, 0), 1 / 2.2, shown);
-  shown.convertTo(png, CV_8UC3, 255);
-  cv::cvtColor(png, png, cv::COLOR_RGB2BGR);
+  cv::Mat png = TonemapToBgr8(rgb, AutoExposure(rgb));
   for (const auto& p : det.edge_points) cv::circle(png, cv::Point(int(p.x), int(p.y)), 1, {0, 200, 0}, cv::FILLED);
   cv::circle(png, cv::Point(int(v.circle.cx * 16), int(v.circle.cy * 16)), int(v.circle.r * 16), {0, 0, 255}, 1,
              cv::LINE_AA, 4);

@@ -13,14 +13,6 @@
 namespace brdfshot {
 namespace po = boost::program_options;
 
-namespace {
-nlohmann::json ReadJson(const std::string& path) {
-  const nlohmann::json j = nlohmann::json::parse(ReadFileBytes(path), nullptr, false);
-  if (j.is_discarded()) throw FileError(path, "not JSON");
-  return j;
-}
-}  // namespace
-
 int RemapMain(int argc, char** argv) {
   std::string photo_path, sphere_path, calib_path, unreliable_path, out = "observations.bsobs";
   SphereMaskOptions mask;
@@ -35,7 +27,7 @@ int RemapMain(int argc, char** argv) {
       ("out,o", po::value(&out)->default_value(out), "observation file");
   if (!ParseOptions("remap", "--photo P --sphere S [--calib C] [options]", desc, argc, argv)) return 0;
   const cv::Mat photo = ReadHdrImage(photo_path);
-  const SphereView view = SphereView::FromJson(ReadJson(sphere_path), sphere_path);
+  const SphereView view = SphereView::FromJson(ReadJsonFile(sphere_path), sphere_path);
   if (view.width != photo.cols || view.height != photo.rows)
     throw FileError(sphere_path, "is for a " + std::to_string(view.width) + "x" + std::to_string(view.height) +
                                      " photo, " + photo_path + " is " + std::to_string(photo.cols) + "x" +
@@ -44,7 +36,7 @@ int RemapMain(int argc, char** argv) {
   double scale = 1;
   nlohmann::json calib;
   if (!calib_path.empty()) {
-    calib = ReadJson(calib_path);
+    calib = ReadJsonFile(calib_path);
     try {
       if (calib.at("format") != "brdfshot-calib-1") throw FileError(calib_path, "not a brdfshot calibration");
       rot.m = calib.at("rotation_camera_to_probe").get<decltype(rot.m)>();

@@ -50,6 +50,21 @@ std::vector<std::string> SplitList(const std::string& text) {
   return out;
 }
 
+std::vector<double> ParseNumberList(const std::string& text, size_t count, const std::string& option,
+                                    const std::string& names) {
+  const std::vector<std::string> parts = SplitList(text);
+  if (parts.size() != count) throw Error("bad " + option + " '" + text + "': expected " + names);
+  std::vector<double> v;
+  for (const std::string& p : parts) {
+    try {
+      v.push_back(std::stod(p));
+    } catch (const std::exception&) {
+      throw Error("bad " + option + " '" + text + "': expected " + std::to_string(count) + " numbers " + names);
+    }
+  }
+  return v;
+}
+
 void QualityArgs::Add(po::options_description& d) {
   d.add_options()
       ("theta-samples", po::value(&q.theta_samples)->default_value(q.theta_samples), "half-vector samples along sqrt(theta_h)")

@@ -19,6 +19,10 @@ struct DatabaseArgs {
 
 MerlGrid ParseGrid(const std::string& text);  // "90x90x180"
 std::vector<std::string> SplitList(const std::string& text);  // "a,b,c"
+// `count` comma-separated numbers given to `option` (e.g. "--wb", names "R,G,B");
+// Error quoting the option and its text otherwise.
+std::vector<double> ParseNumberList(const std::string& text, size_t count, const std::string& option,
+                                    const std::string& names);
 
 struct QualityArgs {
   RenderQuality q;

@@ -27,6 +27,35 @@ LatLongProbe LatLongProbe::Read(const std::string& path) {
   return LatLongProbe(rgb, std::filesystem::path(path).stem().string());
 }
 
+namespace {
+// Bilinear read of a lat-long image at (u, v) ∈ [0, 1]², wrapping in longitude
+// and clamping at the poles: the one texel read of plain and prefiltered probes.
+// Forced inline: it is the basis-image inner loop (4 calls per trilinear
+// lookup), and with three callers GCC would otherwise keep it out of line.
+[[gnu::always_inline]] inline cv::Vec3f BilinearLatLong(const cv::Mat& m, double u, double v) {
+  const double x = u * m.cols - 0.5, y = v * m.rows - 0.5;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  // u ∈ [0, 1] so x0 ∈ [−1, cols]: wrap by comparison, not by division.
+  const int xa = x0 < 0 ? x0 + m.cols : (x0 >= m.cols ? x0 - m.cols : x0);
+  const int xb = xa + 1 == m.cols ? 0 : xa + 1;
+  const int ya = std::clamp(y0, 0, m.rows - 1), yb = std::clamp(y0 + 1, 0, m.rows - 1);
+  const cv::Vec3f* ra = m.ptr<cv::Vec3f>(ya);
+  const cv::Vec3f* rb = m.ptr<cv::Vec3f>(yb);
+  return (ra[xa] * (1 - fx) + ra[xb] * fx) * (1 - fy) + (rb[xa] * (1 - fx) + rb[xb] * fx) * fy;
+}
+}  // namespace
+
+cv::Vec3f LatLongProbe::Bilinear(const Vec3& dir) const {
+  double col, row;
+  PixelAt(dir, &col, &row);
+  return BilinearLatLong(rgb_, col / width(), row / height());
+}
+
+cv::Vec3f PrefilteredProbe::Bilinear(int level, double u, double v) const {
+  return BilinearLatLong(levels_[level], u, v);
+}
+
 Vec3 LatLongProbe::DirectionAt(double col, double row) const {
   const double theta = kPi * row / height(), phi = 2 * kPi * col / width();
   const double s = std::sin(theta);
@@ -162,20 +191,6 @@ void PrefilteredProbe::Angles(const Vec3& d, double* u, double* v) {
   if (phi < 0) phi += 2 * kPi;
   *u = phi / (2 * kPi);
   *v = theta / kPi;
-}
-
-cv::Vec3f PrefilteredProbe::Bilinear(int level, double u, double v) const {
-  const cv::Mat& m = levels_[level];
-  const double x = u * m.cols - 0.5, y = v * m.rows - 0.5;
-  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
-  // u ∈ [0, 1] so x0 ∈ [−1, cols]: wrap by comparison, not by division.
-  const int xa = x0 < 0 ? x0 + m.cols : (x0 >= m.cols ? x0 - m.cols : x0);
-  const int xb = xa + 1 == m.cols ? 0 : xa + 1;
-  const int ya = std::clamp(y0, 0, m.rows - 1), yb = std::clamp(y0 + 1, 0, m.rows - 1);
-  const cv::Vec3f* ra = m.ptr<cv::Vec3f>(ya);
-  const cv::Vec3f* rb = m.ptr<cv::Vec3f>(yb);
-  return (ra[xa] * (1 - fx) + ra[xb] * fx) * (1 - fy) + (rb[xa] * (1 - fx) + rb[xb] * fx) * fy;
 }
 
 cv::Vec3f PrefilteredProbe::LookupLevel(const Vec3& d, int level) const {

@@ -31,6 +31,7 @@ class LatLongProbe {
 
   Vec3 DirectionAt(double col, double row) const;          // continuous pixel coords
   void PixelAt(const Vec3& dir, double* col, double* row) const;
+  cv::Vec3f Bilinear(const Vec3& dir) const;               // radiance, bilinear, wrapping in longitude
   double TexelSolidAngle(int row) const;                    // sr
   cv::Vec3f Texel(int col, int row) const { return rgb_.at<cv::Vec3f>(row, col); }
 

@@ -6,22 +6,6 @@
 #include "util/check.h"
 
 namespace brdfshot {
-namespace {
-
-// Bilinear read of a lat-long probe at a direction, wrapping in longitude.
-cv::Vec3f ReadLatLong(const LatLongProbe& p, const Vec3& d) {
-  double col, row;
-  p.PixelAt(d, &col, &row);
-  const double x = col - 0.5, y = std::clamp(row - 0.5, 0.0, p.height() - 1.0);
-  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-  const double fx = x - x0, fy = y - y0;
-  const int y1 = std::min(y0 + 1, p.height() - 1);
-  auto at = [&](int xx, int yy) { return p.Texel(((xx % p.width()) + p.width()) % p.width(), yy); };
-  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y1) + fx * at(x0 + 1, y1));
-}
-
-}  // namespace
-
 LatLongProbe AngularMapToLatLong(const cv::Mat& angular, int width) {
   BRDFSHOT_CHECK(angular.type() == CV_32FC3 && angular.cols == angular.rows && width >= 4 && width % 2 == 0);
   const int height = width / 2, size = angular.cols;
@@ -48,7 +32,7 @@ cv::Mat LatLongToAngularMap(const LatLongProbe& probe, int size) {
       if (r > 1) continue;
       const double theta = r * kPi;  // angle from −Z
       const double s = r > 0 ? std::sin(theta) / r : 0;
-      out.at<cv::Vec3f>(y, x) = ReadLatLong(probe, Vec3(u * s, v * s, -std::cos(theta)));
+      out.at<cv::Vec3f>(y, x) = probe.Bilinear(Vec3(u * s, v * s, -std::cos(theta)));
     }
   return out;
 }
@@ -147,7 +131,7 @@ cv::Mat RenderMirrorBall(const LatLongProbe& probe, int size) {
           const double r2 = u * u + v * v;
           if (r2 >= 1) continue;
           const Vec3 n(u, v, std::sqrt(1 - r2));
-          sum += ReadLatLong(probe, Reflect(Vec3(0, 0, 1), n));
+          sum += probe.Bilinear(Reflect(Vec3(0, 0, 1), n));
         }
       out.at<cv::Vec3f>(y, x) = sum / static_cast<float>(ss * ss);
     }

@@ -5,6 +5,7 @@
 
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/tagged_file.h"
 
 namespace brdfshot {
 
@@ -24,12 +25,7 @@ void BasisImages::Write(const std::string& path) const {
   h["num_bases"] = n;
   h["width"] = geometry.width;
   h["height"] = geometry.height;
-  const std::string hs = h.dump();
-  WriteFileAtomic(path, [&](std::ostream& out) {
-    out.write(kMagic, 8);
-    const uint64_t len = hs.size();
-    out.write(reinterpret_cast<const char*>(&len), 8);
-    out.write(hs.data(), hs.size());
+  WriteTaggedFile(path, kMagic, h, [&](std::ostream& out) {
     for (size_t p = 0; p < P; ++p) {
       const int32_t xy[2] = {geometry.x[p], geometry.y[p]};
       out.write(reinterpret_cast<const char*>(xy), 8);
@@ -46,17 +42,9 @@ void BasisImages::Write(const std::string& path) const {
 BasisImages BasisImages::Read(const std::string& path) { return Parse(ReadFileBytes(path), path); }
 
 BasisImages BasisImages::Parse(const std::string& bytes, const std::string& name) {
-  if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 8) != 0)
-    throw FileError(name, "not a brdfshot basis-image file (bad magic)");
-  uint64_t len;
-  std::memcpy(&len, bytes.data() + 8, 8);
-  if (len > bytes.size() - 16) throw FileError(name, "truncated header");
+  TaggedHeader t = ParseTaggedHeader(bytes, kMagic, "basis-image file", name);
   BasisImages b;
-  try {
-    b.header = nlohmann::json::parse(bytes.substr(16, len));
-  } catch (const nlohmann::json::exception& e) {
-    throw FileError(name, std::string("bad JSON header: ") + e.what());
-  }
+  b.header = std::move(t.header);
   uint64_t P, n;
   try {
     P = b.header.at("pixels").get<uint64_t>();
@@ -68,11 +56,11 @@ BasisImages BasisImages::Parse(const std::string& bytes, const std::string& name
     throw FileError(name, std::string("incomplete header: ") + e.what());
   }
   if (P > (1ull << 28) || n > 100000) throw FileError(name, "absurd size in header");
-  const uint64_t need = 16 + len + P * 8 + P * 48 + 3 * P * n * 4;
+  const uint64_t need = t.body_offset + P * 8 + P * 48 + 3 * P * n * 4;
   if (bytes.size() != need)
     throw FileError(name, "size " + std::to_string(bytes.size()) + " does not match header (needs " +
                               std::to_string(need) + "): truncated or corrupt");
-  const char* p = bytes.data() + 16 + len;
+  const char* p = bytes.data() + t.body_offset;
   b.geometry.x.resize(P);
   b.geometry.y.resize(P);
   for (size_t i = 0; i < P; ++i) {

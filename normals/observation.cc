@@ -5,6 +5,7 @@
 
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/tagged_file.h"
 
 namespace brdfshot {
 namespace {
@@ -20,12 +21,7 @@ void Observations::Write(const std::string& path) const {
   h["pixels"] = P;
   h["width"] = geometry.width;
   h["height"] = geometry.height;
-  const std::string hs = h.dump();
-  WriteFileAtomic(path, [&](std::ostream& out) {
-    out.write(kMagic, 8);
-    const uint64_t len = hs.size();
-    out.write(reinterpret_cast<const char*>(&len), 8);
-    out.write(hs.data(), hs.size());
+  WriteTaggedFile(path, kMagic, h, [&](std::ostream& out) {
     for (size_t p = 0; p < P; ++p) {
       char rec[kRecord];
       const int32_t xy[2] = {geometry.x[p], geometry.y[p]};
@@ -43,31 +39,27 @@ void Observations::Write(const std::string& path) const {
 Observations Observations::Read(const std::string& path) { return Parse(ReadFileBytes(path), path); }
 
 Observations Observations::Parse(const std::string& bytes, const std::string& name) {
-  if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 8) != 0)
-    throw FileError(name, "not a brdfshot observation file (bad magic)");
-  uint64_t len;
-  std::memcpy(&len, bytes.data() + 8, 8);
-  if (len > bytes.size() - 16) throw FileError(name, "truncated header");
+  TaggedHeader t = ParseTaggedHeader(bytes, kMagic, "observation file", name);
   Observations o;
+  o.header = std::move(t.header);
   uint64_t P;
   try {
-    o.header = nlohmann::json::parse(bytes.substr(16, len));
     if (o.header.at("format") != "brdfshot-observations-1") throw FileError(name, "unknown observation format");
     P = o.header.at("pixels").get<uint64_t>();
     o.geometry.width = o.header.at("width");
     o.geometry.height = o.header.at("height");
   } catch (const nlohmann::json::exception& e) {
-    throw FileError(name, std::string("bad header: ") + e.what());
+    throw FileError(name, std::string("incomplete header: ") + e.what());
   }
   if (P > (1ull << 28) || o.geometry.width <= 0 || o.geometry.height <= 0 || o.geometry.width > (1 << 20) ||
       o.geometry.height > (1 << 20))
     throw FileError(name, "absurd size in header");
   if (P == 0) throw FileError(name, "holds no pixels");
-  if (bytes.size() != 16 + len + P * kRecord)
+  if (bytes.size() != t.body_offset + P * kRecord)
     throw FileError(name, "size " + std::to_string(bytes.size()) + " does not match its " + std::to_string(P) +
                               " pixels: truncated or corrupt");
   o.rgb.resize(P, 3);
-  const char* p = bytes.data() + 16 + len;
+  const char* p = bytes.data() + t.body_offset;
   for (size_t i = 0; i < P; ++i, p += kRecord) {
     int32_t xy[2];
     float c[3];

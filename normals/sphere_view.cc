@@ -34,6 +34,17 @@ double SphereView::RimDistance(double px, double py) const {
   return (cone.half_angle - angle) * focal_px / (cos_off * cos_off);
 }
 
+cv::Rect SphereView::Bounds(int margin) const {
+  // Under perspective the rim is an ellipse around the apparent circle, longer
+  // by up to r (1 − cos θ_c) radially.
+  const double reach = circle.r * (perspective ? 1 + (1 + cone.centre_dir.z) : 1.0) + margin;
+  const int x0 = std::max(0, static_cast<int>(circle.cx - reach));
+  const int x1 = std::min(width, static_cast<int>(circle.cx + reach) + 1);
+  const int y0 = std::max(0, static_cast<int>(circle.cy - reach));
+  const int y1 = std::min(height, static_cast<int>(circle.cy + reach) + 1);
+  return cv::Rect(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
+}
+
 nlohmann::json SphereView::ToJson() const {
   nlohmann::json j = {{"format", "brdfshot-sphere-1"},
                       {"width", width},
@@ -85,13 +96,9 @@ PixelGeometry SphereViewGeometry(const SphereView& v, const Rotation& camera_to_
   g.width = v.width;
   g.height = v.height;
   const double cos_max = std::cos(o.max_angle_deg * kPi / 180);
-  const double reach = v.circle.r * (v.perspective ? 1 + (1 + v.cone.centre_dir.z) : 1.0) + 2;
-  const int x0 = std::max(0, static_cast<int>(v.circle.cx - reach));
-  const int x1 = std::min(v.width, static_cast<int>(v.circle.cx + reach) + 1);
-  const int y0 = std::max(0, static_cast<int>(v.circle.cy - reach));
-  const int y1 = std::min(v.height, static_cast<int>(v.circle.cy + reach) + 1);
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
+  const cv::Rect box = v.Bounds(2);
+  for (int y = box.y; y < box.y + box.height; ++y)
+    for (int x = box.x; x < box.x + box.width; ++x) {
       Vec3 n, w;
       if (!v.Trace(x + 0.5, y + 0.5, &n, &w)) continue;
       if (Dot(n, w) < cos_max || v.RimDistance(x + 0.5, y + 0.5) < o.rim_margin_px) continue;

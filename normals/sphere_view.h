@@ -31,6 +31,8 @@ struct SphereView {
   bool Trace(double px, double py, Vec3* normal, Vec3* view) const;
   // How far inside the silhouette the point is, in pixels (negative outside).
   double RimDistance(double px, double py) const;
+  // Pixels that can see the sphere, grown by `margin` px, clipped to the image.
+  cv::Rect Bounds(int margin) const;
 
   nlohmann::json ToJson() const;
   static SphereView FromJson(const nlohmann::json& j, const std::string& source);

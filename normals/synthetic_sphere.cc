@@ -4,16 +4,11 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "normals/sphere_view.h"
 #include "util/check.h"
 
 namespace brdfshot {
 namespace {
-
-// Coverage and shading of one sample point: false if it misses the sphere.
-struct Hit {
-  bool hit = false;
-  Vec3 normal;
-};
 
 cv::Vec3f Shade(const Vec3& n) {
   const Vec3 l = Normalize(Vec3(-0.4, 0.5, 0.77));
@@ -50,53 +45,34 @@ cv::Mat RenderSyntheticSphere(const SyntheticSphereScene& s) {
       default: cv::circle(img, p, size, col, std::max(1, size / 10)); break;
     }
   }
-  const bool persp = s.focal_px > 0;
-  const cv::Point2d pp(s.width / 2.0, s.height / 2.0);
-  const SphereCone cone = persp ? TrueCone(s) : SphereCone{};
-  auto trace = [&](double px, double py) -> Hit {
-    Hit h;
-    if (!persp) {
-      const double dx = (px - s.circle.cx) / s.circle.r, dy = -(py - s.circle.cy) / s.circle.r;
-      const double r2 = dx * dx + dy * dy;
-      if (r2 >= 1) return h;
-      h.hit = true;
-      h.normal = Vec3(dx, dy, std::sqrt(1 - r2));
-      return h;
-    }
-    const Vec3 d = PixelRay({px, py}, s.focal_px, pp);
-    const double b = Dot(d, s.centre), c = Dot(s.centre, s.centre) - 1, disc = b * b - c;
-    if (disc <= 0) return h;
-    const double t = b - std::sqrt(disc);
-    h.hit = true;
-    h.normal = Normalize(d * t - s.centre);
-    return h;
-  };
-  // Which pixels are near the rim (supersampled) — in pixels of distance.
-  auto rim_distance = [&](double px, double py) {
-    if (!persp) return std::abs(std::hypot(px - s.circle.cx, py - s.circle.cy) - s.circle.r);
-    const Vec3 d = PixelRay({px, py}, s.focal_px, pp);
-    return std::abs(std::acos(std::clamp(Dot(d, cone.centre_dir), -1.0, 1.0)) - cone.half_angle) * s.focal_px * 0.8;
-  };
-  const Circle box = persp ? ApparentCircle(cone, s.focal_px, pp) : s.circle;
-  const double reach = box.r * (persp ? 1.0 + (1 + cone.centre_dir.z) : 1.0) + 3;
-  const int x0 = std::max(0, static_cast<int>(box.cx - reach)), x1 = std::min(s.width, static_cast<int>(box.cx + reach) + 1);
-  const int y0 = std::max(0, static_cast<int>(box.cy - reach)), y1 = std::min(s.height, static_cast<int>(box.cy + reach) + 1);
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
+  // The sphere as a camera model: the same ray tracing the pipeline uses for
+  // normals (sphere_view.h, tested there against closed forms).
+  SphereView view;
+  view.width = s.width;
+  view.height = s.height;
+  view.perspective = s.focal_px > 0;
+  if (view.perspective) {
+    view.focal_px = s.focal_px;
+    view.principal = {s.width / 2.0, s.height / 2.0};
+    view.cone = TrueCone(s);
+    view.circle = ApparentCircle(view.cone, view.focal_px, view.principal);
+  } else {
+    view.circle = s.circle;
+  }
+  const cv::Rect box = view.Bounds(3);
+  for (int y = box.y; y < box.y + box.height; ++y)
+    for (int x = box.x; x < box.x + box.width; ++x) {
       cv::Vec3f& out = img.at<cv::Vec3f>(y, x);
-      if (rim_distance(x + 0.5, y + 0.5) > 1.5) {
-        const Hit h = trace(x + 0.5, y + 0.5);
-        if (h.hit) out = Shade(h.normal);
+      Vec3 n, w;
+      if (std::abs(view.RimDistance(x + 0.5, y + 0.5)) > 1.5) {  // away from the rim: one sample
+        if (view.Trace(x + 0.5, y + 0.5, &n, &w)) out = Shade(n);
         continue;
       }
-      const int n = 16;
+      const int k = 16;
       cv::Vec3f sum(0, 0, 0);
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          const Hit h = trace(x + (i + 0.5) / n, y + (j + 0.5) / n);
-          sum += h.hit ? Shade(h.normal) : out;
-        }
-      out = sum / static_cast<float>(n * n);
+      for (int j = 0; j < k; ++j)
+        for (int i = 0; i < k; ++i) sum += view.Trace(x + (i + 0.5) / k, y + (j + 0.5) / k, &n, &w) ? Shade(n) : out;
+      out = sum / static_cast<float>(k * k);
     }
   if (s.blur_sigma > 0) cv::GaussianBlur(img, img, cv::Size(), s.blur_sigma);
   if (s.noise > 0) {

@@ -87,4 +87,12 @@ std::string ReadFileBytes(const std::string& path) {
   return s.str();
 }
 
+nlohmann::json ReadJsonFile(const std::string& path) {
+  try {
+    return nlohmann::json::parse(ReadFileBytes(path));
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(path, std::string("not JSON: ") + e.what());
+  }
+}
+
 }  // namespace brdfshot

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
 
@@ -23,5 +24,9 @@ void WriteFileAtomicByName(const std::string& path,
 
 // Reads a whole file; Error naming the file if it cannot be opened or is a folder.
 std::string ReadFileBytes(const std::string& path);
+
+// A whole JSON file (sidecars, class models, calibrations); Error naming the
+// file if it cannot be read or is not JSON.
+nlohmann::json ReadJsonFile(const std::string& path);
 
 }  // namespace brdfshot

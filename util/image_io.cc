@@ -121,6 +121,10 @@ void WritePng(const std::string& path, const cv::Mat& bgr8) {
 }
 
 void WritePngTonemapped(const std::string& path, const cv::Mat& rgb, double exposure) {
+  WritePng(path, TonemapToBgr8(rgb, exposure));
+}
+
+cv::Mat TonemapToBgr8(const cv::Mat& rgb, double exposure) {
   cv::Mat scaled = rgb * exposure, out8(rgb.size(), CV_8UC3);
   for (int y = 0; y < rgb.rows; ++y)
     for (int x = 0; x < rgb.cols; ++x) {
@@ -131,7 +135,7 @@ void WritePngTonemapped(const std::string& path, const cv::Mat& rgb, double expo
         q[2 - c] = static_cast<uchar>(std::lround(255.0 * v));  // RGB -> BGR
       }
     }
-  WritePng(path, out8);
+  return out8;
 }
 
 double AutoExposure(const cv::Mat& rgb, const cv::Mat& mask) {

@@ -22,6 +22,8 @@ void WriteExr(const std::string& path, const cv::Mat& rgb, ExrPixel pixel = ExrP
 
 // 8-bit sRGB-ish PNG for people: scale by `exposure`, gamma 1/2.2, clip.
 void WritePngTonemapped(const std::string& path, const cv::Mat& rgb, double exposure = 1.0);
+// The same picture in memory (BGR, 8-bit), to draw on before writing.
+cv::Mat TonemapToBgr8(const cv::Mat& rgb, double exposure);
 
 // Any 8-bit BGR picture (plots, overlays), written atomically.
 void WritePng(const std::string& path, const cv::Mat& bgr8);
