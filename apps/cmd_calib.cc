@@ -8,6 +8,7 @@
 #include "apps/command.h"
 #include "apps/common_options.h"
 #include "calib/probe_layout.h"
+#include "calib/sun_probe.h"
 #include "normals/sphere_detect.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
@@ -18,13 +19,17 @@ namespace brdfshot {
 namespace po = boost::program_options;
 
 int CalibMain(int argc, char** argv) {
-  std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar;
+  std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar, sun, sun_radiance = "1,1,1";
+  double sun_deg = 1.0;
   double scale = 1;
   int width = 0;
   MirrorBallOptions ball;
   po::options_description desc("options");
   desc.add_options()
-      ("probe,p", po::value(&probe_path)->required(), "probe image (.exr/.hdr/.pfm)")
+      ("probe,p", po::value(&probe_path), "probe image (.exr/.hdr/.pfm)")
+      ("sun", po::value(&sun), "instead of --probe: one distant light towards x,y,z (probe frame), e.g. a photometric-stereo LED")
+      ("sun-radiance", po::value(&sun_radiance)->default_value(sun_radiance), "--sun's irradiance R,G,B at normal incidence")
+      ("sun-size", po::value(&sun_deg)->default_value(sun_deg), "--sun's angular radius, degrees")
       ("layout", po::value(&layout)->default_value(layout), "latlong | angular | mirrorball (a photo of a chrome ball)")
       ("width", po::value(&width)->default_value(0), "lat-long width to write (0: as given, 512 for converted layouts)")
       ("rotate", po::value(&rotate)->default_value(rotate), "camera → probe rotation as yaw,pitch,roll degrees (util/rotation.h)")
@@ -34,14 +39,25 @@ int CalibMain(int argc, char** argv) {
       ("ball-camera-hole", po::value(&ball.camera_hole_deg)->default_value(ball.camera_hole_deg), "ball normals within this (deg) of the camera show the camera: filled in")
       ("sidecar", po::value(&sidecar), "calibration JSON (default: <out>.json)")
       ("out,o", po::value(&out)->default_value(out), "lat-long probe (EXR)");
-  if (!ParseOptions("calib", "--probe P [--layout L] [--rotate y,p,r] [--scale s] [options]", desc, argc, argv)) return 0;
+  if (!ParseOptions("calib", "(--probe P [--layout L] | --sun x,y,z) [--rotate y,p,r] [--scale s] [options]", desc,
+                    argc, argv))
+    return 0;
+  if (probe_path.empty() == sun.empty()) throw Error("calib: give exactly one of --probe and --sun");
   if (sidecar.empty()) sidecar = std::filesystem::path(out).replace_extension(".json").string();
   const std::vector<double> a = ParseNumberList(rotate, 3, "--rotate", "yaw,pitch,roll in degrees");
   if (!(scale > 0)) throw Error("--scale must be positive");
   const Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
   nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};
   LatLongProbe probe;
-  if (layout == "latlong") {
+  if (!sun.empty()) {
+    const std::vector<double> d = ParseNumberList(sun, 3, "--sun", "x,y,z");
+    const std::vector<double> e = ParseNumberList(sun_radiance, 3, "--sun-radiance", "R,G,B");
+    probe = SunProbe(Vec3(d[0], d[1], d[2]), cv::Vec3f(e[0], e[1], e[2]), sun_deg, width > 0 ? width : 512);
+    j["source"] = "sun " + sun;
+    j["layout"] = "sun";
+    j["sun"] = {{"direction", d}, {"irradiance", e}, {"radius_deg", sun_deg}};
+    probe_path = j["source"];
+  } else if (layout == "latlong") {
     probe = LatLongProbe::Read(probe_path);
     if (width > 0) probe = probe.Resized(width);
   } else if (layout == "angular") {

@@ -111,9 +111,7 @@ int MergeMain(int argc, char** argv) {
   pos.add("input", -1);
   if (!ParseOptions("merge", "FRAME... | FOLDER [options]", desc, argc, argv, &pos)) return 0;
   const std::vector<std::string> files = ExpandInputs(inputs);
-  if (files.size() < 2)
-    throw Error("merge needs at least two frames, got " + std::to_string(files.size()) +
-                (files.empty() ? "" : " ('" + files[0] + "')"));
+  if (files.empty()) throw Error("merge: no frames given");
   const std::string stem = (fs::path(out).parent_path() / fs::path(out).stem()).string();
   if (mask_out.empty()) mask_out = stem + "_mask.png";
   if (sidecar.empty()) sidecar = stem + ".json";
@@ -162,6 +160,8 @@ int MergeMain(int argc, char** argv) {
   }
   if (!times_path.empty()) {
     exposure = ReadTimesFile(times_path, files.size());
+  } else if (files.size() == 1 && !(exposure[0] > 0)) {
+    exposure[0] = 1;  // one linear frame: radiance in its own units (calib's scale relates them to the probe)
   } else {
     for (size_t j = 0; j < files.size(); ++j)
       if (!(exposure[j] > 0))
@@ -174,7 +174,12 @@ int MergeMain(int argc, char** argv) {
                                     ", " + files[0] + " is " + std::to_string(frames[0].cols) + "x" +
                                     std::to_string(frames[0].rows));
   }
-  if (align) {
+  // One frame is enough only when it is linear (16-bit: RAW or a linear PNG/TIFF,
+  // e.g. DiLiGenT's); an 8-bit frame needs a bracket to recover its response.
+  if (files.size() < 2 && frames[0].depth() == CV_8U && response_in.empty())
+    throw FileError(files[0], "is a single 8-bit frame: merge needs a bracket (two or more exposures) "
+                              "or --response CURVE.json to linearise it");
+  if (align && files.size() > 1) {
     AlignedBracket a = AlignBracket(frames);
     for (size_t j = 0; j < files.size(); ++j) frames_json[j]["shift"] = {a.shifts[j].x, a.shifts[j].y};
     frames = std::move(a.frames);

@@ -24,6 +24,8 @@ bool ParseOptions(const std::string& command, const std::string& usage,
                   boost::program_options::positional_options_description* positional = nullptr);
 
 int SynthDbMain(int argc, char** argv);
+int SynthCaptureMain(int argc, char** argv);
+int ReportMain(int argc, char** argv);
 int NbrdfDbMain(int argc, char** argv);
 int ClusterMain(int argc, char** argv);
 int EvalMain(int argc, char** argv);

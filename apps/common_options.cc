@@ -16,6 +16,7 @@ void DatabaseArgs::Add(po::options_description& d) {
       ("merl-dir", po::value(&merl_dir), "folder of MERL .binary files (default: <data>/merl)")
       ("grid", po::value(&grid)->default_value(grid), "table grid n_th x n_td x n_pd for nbrdf/standin")
       ("materials", po::value(&materials), "comma-separated material names (default: all)")
+      ("exclude", po::value(&exclude), "comma-separated material names to leave out (leave-one-out on a known material)")
       ("max-materials", po::value(&max_materials)->default_value(0), "keep N materials spread over the list (0: all)");
 }
 
@@ -26,6 +27,7 @@ DatabaseOptions DatabaseArgs::ToOptions(bool progress) const {
   o.merl_dir = merl_dir;
   o.grid = ParseGrid(grid);
   o.only = SplitList(materials);
+  o.exclude = SplitList(exclude);
   o.max_materials = max_materials;
   o.progress = progress;
   return o;

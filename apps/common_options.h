@@ -11,7 +11,7 @@
 namespace brdfshot {
 
 struct DatabaseArgs {
-  std::string kind = "auto", data, merl_dir, grid = "90x90x180", materials;
+  std::string kind = "auto", data, merl_dir, grid = "90x90x180", materials, exclude;
   int max_materials = 0;
   void Add(boost::program_options::options_description& d);
   DatabaseOptions ToOptions(bool progress) const;

@@ -45,6 +45,34 @@ ExifInfo ReadExif(const std::string& path) {
   return info;
 }
 
+namespace {
+
+Exiv2::URational ExactRational(double v) {
+  if (v >= 1 && std::abs(v - std::round(v)) < 1e-9 * v) return {static_cast<uint32_t>(std::round(v)), 1};
+  if (v > 0 && v < 1 && std::abs(1 / v - std::round(1 / v)) < 1e-9 / v)
+    return {1, static_cast<uint32_t>(std::round(1 / v))};
+  return {static_cast<uint32_t>(std::round(v * 1e6)), 1000000};
+}
+
+}  // namespace
+
+void WriteExif(const std::string& path, const ExifInfo& info) {
+  try {
+    Exiv2::Image::AutoPtr image = Exiv2::ImageFactory::open(path);
+    image->readMetadata();
+    Exiv2::ExifData exif = image->exifData();
+    if (info.exposure_time > 0) exif["Exif.Photo.ExposureTime"] = ExactRational(info.exposure_time);
+    if (info.f_number > 0) exif["Exif.Photo.FNumber"] = ExactRational(info.f_number);
+    if (info.iso > 0) exif["Exif.Photo.ISOSpeedRatings"] = static_cast<uint16_t>(std::lround(info.iso));
+    exif["Exif.Image.Orientation"] = static_cast<uint16_t>(info.orientation);
+    if (!info.camera.empty()) exif["Exif.Image.Make"] = info.camera;
+    image->setExifData(exif);
+    image->writeMetadata();
+  } catch (const Exiv2::AnyError& e) {
+    throw FileError(path, std::string("cannot write image metadata: ") + e.what());
+  }
+}
+
 double ParseExposureTime(const std::string& text, const std::string& where) {
   std::string t = text;
   while (!t.empty() && (t.back() == 's' || isspace(static_cast<unsigned char>(t.back())))) t.pop_back();

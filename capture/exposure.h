@@ -22,6 +22,12 @@ struct ExifInfo {
 // naming the file when it cannot be opened or parsed as an image.
 ExifInfo ReadExif(const std::string& path);
 
+// Writes `info` (exposure time, f-number, ISO, orientation, camera as Make)
+// into an existing JPEG/PNG/TIFF `path` with exiv2, as a camera would. The time
+// is stored as the exact rational 1/n or n/1 when it is one, else to 1 µs.
+// Error naming the file on failure.
+void WriteExif(const std::string& path, const ExifInfo& info);
+
 // "1/250", "0.004", "2", "2s" → seconds; Error naming `where` otherwise.
 double ParseExposureTime(const std::string& text, const std::string& where);
 

@@ -76,6 +76,32 @@ TEST(Exposure, ReadsExifThatExiv2Wrote) {
   EXPECT_THROW(ReadExif((TempDir() / "missing.jpg").string()), Error);
 }
 
+TEST(Exposure, WriteExifRoundTripsThroughReadExif) {
+  // Bracket times as a synthetic capture writes them: powers of two around an
+  // arbitrary middle, plus a long one; exact when 1/n or n/1, else to 1 µs.
+  const fs::path f = TempDir() / "written.jpg";
+  for (const double t : {1.0 / 1024, 1.0 / 60, 0.0123456, 2.0, 8.0}) {
+    cv::imwrite(f.string(), cv::Mat(8, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
+    ExifInfo in;
+    in.exposure_time = t;
+    in.f_number = 5.6;
+    in.iso = 400;
+    in.camera = "brdfshot synthetic";
+    WriteExif(f.string(), in);
+    const ExifInfo out = ReadExif(f.string());
+    EXPECT_NEAR(out.exposure_time, t, t < 1 && std::abs(1 / t - std::round(1 / t)) > 1e-9 ? 5e-7 : 1e-12 * t) << t;
+    EXPECT_NEAR(out.f_number, 5.6, 1e-6);
+    EXPECT_EQ(out.iso, 400);
+    EXPECT_EQ(out.camera, "brdfshot synthetic");
+  }
+  try {
+    WriteExif((TempDir() / "missing.jpg").string(), ExifInfo{});
+    FAIL() << "no error for a missing file";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.jpg"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Merge, ClippedAndNearBlackCodesGetZeroWeight) {
   // Pixel 0: clipped in the long frame → only the short frame counts.
   // Pixel 1: near-black in the short frame → only the long frame counts.

@@ -72,4 +72,29 @@ std::vector<double> BracketTimes(const cv::Mat& radiance, int frames, double sto
   return t;
 }
 
+std::vector<double> CoveringBracketTimes(const cv::Mat& radiance, double stops, int max_frames, double max_signal,
+                                         double dark_quantile, double dark_signal) {
+  BRDFSHOT_CHECK(radiance.type() == CV_32FC3 && !radiance.empty(), "CoveringBracketTimes wants CV_32FC3");
+  BRDFSHOT_CHECK(stops > 0 && max_frames >= 1 && max_signal > 0 && dark_signal > 0);
+  double peak = 0;
+  cv::minMaxLoc(radiance.reshape(1), nullptr, &peak);
+  std::vector<float> lum;
+  lum.reserve(radiance.total());
+  for (int y = 0; y < radiance.rows; ++y)
+    for (int x = 0; x < radiance.cols; ++x) {
+      const cv::Vec3f v = radiance.at<cv::Vec3f>(y, x);
+      lum.push_back((v[0] + v[1] + v[2]) / 3);
+    }
+  const size_t q = std::min(lum.size() - 1, static_cast<size_t>(dark_quantile * lum.size()));
+  std::nth_element(lum.begin(), lum.begin() + q, lum.end());
+  peak = std::max(peak, 1e-30);
+  const double dark = std::max(static_cast<double>(lum[q]), peak * 1e-12);
+  const double t_short = std::exp2(std::floor(std::log2(max_signal / peak)));
+  const double t_long = dark_signal / dark;
+  const int frames = std::clamp(1 + static_cast<int>(std::ceil(std::log2(t_long / t_short) / stops)), 1, max_frames);
+  std::vector<double> t;
+  for (int k = 0; k < frames; ++k) t.push_back(t_short * std::exp2(stops * k));
+  return t;
+}
+
 }  // namespace brdfshot

@@ -34,4 +34,14 @@ std::vector<cv::Mat> SimulateBracket(const cv::Mat& radiance, const std::vector<
 // radiance's median at 18 % of the full well: a photographer's bracket.
 std::vector<double> BracketTimes(const cv::Mat& radiance, int frames, double stops);
 
+// A bracket that measures all of `radiance` (CV_32FC3, in units where signal =
+// radiance · t reaches full well at 1): the shortest frame keeps the brightest
+// pixel below `max_signal` of full well (mid-curve, where an 8-bit response is well measured), the longest lifts the `dark_quantile`
+// pixel luminance to `dark_signal`; times step by `stops` from the shortest,
+// which is rounded down to a power of two (so times are exact in EXIF, 1/n or n).
+// At most `max_frames` frames: the dark end is given up first.
+std::vector<double> CoveringBracketTimes(const cv::Mat& radiance, double stops, int max_frames = 16,
+                                         double max_signal = 0.35, double dark_quantile = 0.02,
+                                         double dark_signal = 0.25);
+
 }  // namespace brdfshot

@@ -89,5 +89,32 @@ TEST(ResponseRecovery, AUniformBracketIsReportedNotSolved) {
   EXPECT_THROW(RecoverResponseDebevec(f, {1, 2, 4}), Error);
 }
 
+TEST(CoveringBracketTimes, ShortestFrameKeepsThePeakLongestLiftsTheDark) {
+  // Six decades, like a probe with a sun: no clipped pixel in the shortest
+  // frame, the dark 2 % measured above a quarter of full well in the longest.
+  const cv::Mat e = SmoothRadiance(64, 48, 6.0);
+  const std::vector<double> t = CoveringBracketTimes(e, 2.0);
+  ASSERT_GE(t.size(), 2u);
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(e.reshape(1), &lo, &hi);
+  EXPECT_LE(hi * t.front(), 0.35);
+  EXPECT_GT(hi * t.front(), 0.175);  // rounded down by at most one stop
+  EXPECT_EQ(std::exp2(std::round(std::log2(t.front()))), t.front());  // a power of two: exact in EXIF
+  for (size_t k = 1; k < t.size(); ++k) EXPECT_DOUBLE_EQ(t[k] / t[k - 1], 4.0);
+  std::vector<double> lum;
+  for (int i = 0; i < e.rows * e.cols; ++i) {
+    const float* p = e.ptr<float>() + 3 * i;
+    lum.push_back((p[0] + p[1] + p[2]) / 3);
+  }
+  std::sort(lum.begin(), lum.end());
+  EXPECT_GE(lum[lum.size() / 50] * t.back(), 0.25);
+  EXPECT_LT(lum[lum.size() / 50] * t.back(), 0.25 * 4);  // one step more than needed at most
+  EXPECT_LE(static_cast<int>(t.size()), 16);
+  // A cap on frames gives up the dark end, never the peak.
+  const std::vector<double> capped = CoveringBracketTimes(e, 1.0, 4);
+  ASSERT_EQ(capped.size(), 4u);
+  EXPECT_DOUBLE_EQ(capped.front(), t.front());
+}
+
 }  // namespace
 }  // namespace brdfshot

@@ -57,6 +57,11 @@ std::vector<int> SelectMaterials(const std::vector<std::string>& names, const Da
   } else {
     for (int i = 0; i < static_cast<int>(names.size()); ++i) keep.push_back(i);
   }
+  for (const auto& drop : opt.exclude) {
+    auto it = std::find(names.begin(), names.end(), drop);
+    if (it == names.end()) throw Error("excluded material '" + drop + "' is not in the database");
+    keep.erase(std::remove(keep.begin(), keep.end(), static_cast<int>(it - names.begin())), keep.end());
+  }
   if (opt.max_materials > 0 && static_cast<int>(keep.size()) > opt.max_materials) {
     std::vector<int> spread;
     for (int i = 0; i < opt.max_materials; ++i)

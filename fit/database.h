@@ -18,6 +18,7 @@ struct DatabaseOptions {
   std::string merl_dir;        // overrides <root>/merl
   MerlGrid grid = MerlGrid::Full();  // for nbrdf / standin (MERL files carry their own)
   std::vector<std::string> only;     // material names to keep (empty = all)
+  std::vector<std::string> exclude;  // material names to leave out (leave-one-out on a capture)
   int max_materials = 0;             // >0: that many, evenly spread over the list
   bool progress = false;
 };
@@ -49,7 +50,8 @@ std::vector<std::string> ReadLines(const std::string& path);
 // Material names of basis names "material/C", once per material, in order.
 std::vector<std::string> MaterialsOfBases(const std::vector<std::string>& basis_names);
 
-// Indices of `names` that `opt.only` / `opt.max_materials` keep, in order.
+// Indices of `names` that `opt.only` / `opt.exclude` / `opt.max_materials` keep,
+// in order. Error naming a wanted or excluded material the database lacks.
 std::vector<int> SelectMaterials(const std::vector<std::string>& names, const DatabaseOptions& opt);
 
 // BᵀB (or Bᵀ diag(w²) B) in double, accumulated over float row blocks so the

@@ -52,4 +52,23 @@ TEST(Database, MissingDataSaysWhereToGetIt) {
   }
 }
 
+TEST(Database, SelectMaterialsKeepsExcludesAndSpreads) {
+  const std::vector<std::string> names = {"a", "b", "c", "d", "e", "f"};
+  DatabaseOptions o;
+  o.exclude = {"c"};
+  EXPECT_EQ(SelectMaterials(names, o), (std::vector<int>{0, 1, 3, 4, 5}));
+  o.only = {"e", "c", "a"};
+  EXPECT_EQ(SelectMaterials(names, o), (std::vector<int>{4, 0}));  // the order asked, minus the excluded
+  o.only.clear();
+  o.max_materials = 2;  // spread over what the exclusion left: items 0 and 2 of {0,1,3,4,5}
+  EXPECT_EQ(SelectMaterials(names, o), (std::vector<int>{0, 3}));
+  o.exclude = {"zz"};
+  try {
+    SelectMaterials(names, o);
+    FAIL() << "no error for an unknown excluded material";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'zz'"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace brdfshot

@@ -30,7 +30,7 @@ check bad-grid 1 "bad --grid" -- "$B" cluster --db standin --data "$DATA" --grid
 "$B" render --standin demo-felt $DB --probe "$PROBE" --sphere 32 --exposure 1 -o "$T/e1.exr" >/dev/null 2>&1
 "$B" render --standin demo-felt $DB --probe "$PROBE" --sphere 32 --exposure 2 -o "$T/e2.exr" >/dev/null 2>&1
 cp "$T/e1.png" "$T/f1.png"; cp "$T/e2.png" "$T/f2.png"; printf '1/4\n1/2\n' > "$T/times.txt"
-check merge-one 1 "at least two frames" -- "$B" merge "$T/f1.png" -o "$T/merged.exr"
+check merge-one 1 "f1.png: is a single 8-bit frame" -- "$B" merge "$T/f1.png" -o "$T/merged.exr"
 check merge-noexif 1 "f1.png: has no EXIF exposure time" -- "$B" merge "$T/f1.png" "$T/f2.png" -o "$T/merged.exr"
 check merge-times 1 "times.txt: has 2 exposure times for 3 frames" -- "$B" merge "$T/f1.png" "$T/f2.png" "$T/m.png" --times "$T/times.txt" -o "$T/merged.exr"
 cp "$T/f1.png" "$T/same.png"
