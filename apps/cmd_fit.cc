@@ -39,7 +39,6 @@ int FitMain(int argc, char** argv) {
                     desc, argc, argv))
     return 0;
   if (photo_path.empty() == obs_path.empty()) throw Error("fit: give exactly one of --photo and --obs");
-  MakeOutputDir(out);
 
   const BasisImages basis = BasisImages::Read(basis_path);
   const std::vector<std::string> names = basis.BasisNames();
@@ -72,6 +71,7 @@ int FitMain(int argc, char** argv) {
     }
   }
 
+  MakeOutputDir(out);  // only once the inputs have been read: a refused input leaves nothing behind
   Stopwatch sw;
   const auto factors = FactorBasisImages(basis.Y);
   const double t_factor = sw.Seconds();

@@ -148,7 +148,11 @@ int MergeMain(int argc, char** argv) {
       if (bgr.empty()) throw FileError(f, "cannot decode image");
       if (bgr.depth() != CV_8U && bgr.depth() != CV_16U) throw FileError(f, "frames must be 8- or 16-bit");
       cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-      exif = ReadExif(f);
+      try {
+        exif = ReadExif(f);
+      } catch (const Error&) {
+        if (times_path.empty()) throw;  // with --times the metadata is not needed (e.g. PPM frames)
+      }
       rgb = ApplyExifOrientation(rgb, exif.orientation);
       frames_json.push_back({{"file", f}, {"orientation", exif.orientation}});
     }
@@ -183,6 +187,27 @@ int MergeMain(int argc, char** argv) {
     AlignedBracket a = AlignBracket(frames);
     for (size_t j = 0; j < files.size(); ++j) frames_json[j]["shift"] = {a.shifts[j].x, a.shifts[j].y};
     frames = std::move(a.frames);
+  }
+  // A bracket that saw nothing: every pixel clipped even in the shortest
+  // frame, or near-black even in the longest. Said in the photographer's terms.
+  {
+    size_t shortest = 0, longest = 0;
+    for (size_t j = 0; j < files.size(); ++j) {
+      if (exposure[j] < exposure[shortest]) shortest = j;
+      if (exposure[j] > exposure[longest]) longest = j;
+    }
+    const double top = frames[0].depth() == CV_8U ? 255 : 65535;
+    auto fraction = [&](const cv::Mat& f, bool clipped) {
+      cv::Mat flat = f.reshape(1);
+      if (clipped) return cv::countNonZero(flat >= 0.98 * top) / double(flat.total());
+      return cv::countNonZero(flat <= 0.02 * top) / double(flat.total());
+    };
+    if (fraction(frames[shortest], true) > 0.999)
+      throw FileError(files[shortest], "is saturated everywhere, and it is the shortest exposure of the bracket: "
+                                       "nothing was measured; shoot shorter exposures");
+    if (fraction(frames[longest], false) > 0.999)
+      throw FileError(files[longest], "is black everywhere, and it is the longest exposure of the bracket: "
+                                      "nothing was measured; shoot longer exposures");
   }
   ResponseCurve response;
   if (!response_in.empty()) {

@@ -1,5 +1,6 @@
 // brdfshot normals: find the sphere in a photo (coarse Hough, sub-pixel rim),
 // write its camera model as JSON, an overlay picture and the sphere's mask.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
@@ -51,6 +52,17 @@ int NormalsMain(int argc, char** argv) {
     throw FileError(photo_path, e.what());
   }
   const double secs = sw.Seconds();
+  // A sphere cut by the border is still measured (the visible rim fixes the
+  // circle), but the user should know part of it is missing.
+  int outside = 0;
+  for (int k = 0; k < 360; ++k) {
+    const double a = 2 * kPi * k / 360, x = det.circle.cx + det.circle.r * std::cos(a),
+                 y = det.circle.cy + det.circle.r * std::sin(a);
+    outside += x < 0 || y < 0 || x > rgb.cols || y > rgb.rows;
+  }
+  if (outside > 0)
+    std::fprintf(stderr, "warning: %s: the sphere is cut by the image border (%d %% of its rim outside); "
+                 "the fit uses the visible rim\n", photo_path.c_str(), (outside * 100 + 359) / 360);
   SphereView v;
   v.width = rgb.cols;
   v.height = rgb.rows;

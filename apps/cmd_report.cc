@@ -84,6 +84,7 @@ int ReportMain(int argc, char** argv) {
   fs::create_directories(pics);
   auto rel = [&](const fs::path& p) { return fs::relative(p, fs::path(out).parent_path().empty() ? "." : fs::path(out).parent_path()).string(); };
   std::ostringstream md;
+  std::string summary;  // the error against the truth, for the terminal
   md << "# brdfshot report: " << title << "\n\n";
 
   // The photo and the sphere found in it.
@@ -169,6 +170,7 @@ int ReportMain(int argc, char** argv) {
         if (truth.size() != fit.size()) throw FileError(tp.string(), "size differs from " + fp.string());
         cv::hconcat(fit, truth, shown);
         caption = "fit (left), truth (right): relative RMSE **" + Fixed(RelativeRmse(truth, fit), 4) + "**";
+        summary += (summary.empty() ? "" : ", ") + probe + " " + Fixed(RelativeRmse(truth, fit), 4);
       }
       WritePngTonemapped((pics / ("relit_" + probe + ".png")).string(), shown, AutoExposure(shown));
       md << "- " << probe << ": " << caption << "\n\n  ![" << probe << "](" << rel(pics / ("relit_" + probe + ".png")) << ")\n\n";
@@ -190,7 +192,10 @@ int ReportMain(int argc, char** argv) {
     md << "| **all** | **" << buf << "** |\n";
   }
   WriteFileAtomic(out, [&](std::ostream& o) { o << md.str(); });
-  std::printf("wrote %s (pictures in %s)\n", out.c_str(), pics.string().c_str());
+  std::printf("\nBRDF (MERL format): %s\npreviews: %s/, %s/\nreport: %s (pictures in %s/)\n",
+              (r / "fit" / "brdf.binary").string().c_str(), (r / "fit").string().c_str(), (r / "relit").string().c_str(),
+              out.c_str(), pics.string().c_str());
+  if (!summary.empty()) std::printf("relit error against the truth (relative RMSE): %s\n", summary.c_str());
   return 0;
 }
 

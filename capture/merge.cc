@@ -10,7 +10,11 @@ namespace brdfshot {
 namespace {
 
 void CheckBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times) {
-  if (frames.size() < 2) throw Error("a bracket needs at least two frames, got " + std::to_string(frames.size()));
+  if (frames.empty()) throw Error("a bracket needs at least one frame");
+  // One frame is a bracket only when it is linear: an 8-bit frame's response
+  // is recovered from several exposures.
+  if (frames.size() < 2 && frames[0].type() != CV_16UC3)
+    throw Error("a bracket of 8-bit frames needs at least two frames, got " + std::to_string(frames.size()));
   if (times.size() != frames.size())
     throw Error(std::to_string(frames.size()) + " frames but " + std::to_string(times.size()) + " exposure times");
   const int type = frames[0].type();
@@ -170,10 +174,12 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
           dst[x][c] = static_cast<float>(num / den);
           continue;
         }
-        bad = true;
         const int zs = code(shortest, y, x, c), zl = code(longest, y, x, c);
         dst[x][c] = zs >= zhi ? lin[c][zs] / static_cast<float>(times[shortest])
                               : lin[c][zl] / static_cast<float>(times[longest]);
+        // A single linear frame's dark codes are still its measurement (there
+        // is no other frame to prefer); only its clipped ones are unreliable.
+        bad = bad || N > 1 || zs >= zhi;
       }
       if (bad) m[x] = 255, ++unreliable;
     }

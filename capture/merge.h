@@ -53,7 +53,9 @@ struct MergeResult {
 };
 
 // `frames`: RGB, all CV_8UC3 or all CV_16UC3, same size; `times` relative
-// exposures. Error naming the problem on a size or type mismatch.
+// exposures. Error naming the problem on a size or type mismatch. One 16-bit
+// frame is allowed (a single RAW or linear image): its radiance is code / t,
+// and only its clipped pixels are flagged.
 MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
                          const ResponseCurve& response, const MergeOptions& opt = {});
 

@@ -102,6 +102,23 @@ TEST(Exposure, WriteExifRoundTripsThroughReadExif) {
   }
 }
 
+TEST(Merge, SingleLinearFrameIsCodeOverTimeAndFlagsOnlyClipping) {
+  // A DiLiGenT-like 16-bit linear image: dark, mid, clipped pixels.
+  cv::Mat f(1, 3, CV_16UC3);
+  f.at<cv::Vec3w>(0, 0) = {100, 200, 300};
+  f.at<cv::Vec3w>(0, 1) = {30000, 20000, 10000};
+  f.at<cv::Vec3w>(0, 2) = {65535, 65535, 40000};
+  const MergeResult m = MergeBracket({f}, {0.5}, ResponseCurve::Linear16());
+  for (int x = 0; x < 3; ++x)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(m.radiance.at<cv::Vec3f>(0, x)[c], f.at<cv::Vec3w>(0, x)[c] / 65535.0 / 0.5, 1e-6) << x << c;
+  EXPECT_EQ(m.mask.at<uint8_t>(0, 0), 0);  // dark but measured: no other frame to prefer
+  EXPECT_EQ(m.mask.at<uint8_t>(0, 1), 0);
+  EXPECT_EQ(m.mask.at<uint8_t>(0, 2), 255);  // clipped
+  // One 8-bit frame has no response to recover from: refused.
+  EXPECT_THROW(MergeBracket({cv::Mat(1, 3, CV_8UC3, cv::Scalar::all(9))}, {1.0}, ResponseCurve()), Error);
+}
+
 TEST(Merge, ClippedAndNearBlackCodesGetZeroWeight) {
   // Pixel 0: clipped in the long frame → only the short frame counts.
   // Pixel 1: near-black in the short frame → only the long frame counts.

@@ -1,0 +1,12 @@
+// The basis-image cache (.bsbi): tagged header + geometry + Y.
+#include "fit/basis_images.h"
+#include "tests/fuzz/fuzz_input.h"
+#include "util/check.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  try {
+    brdfshot::BasisImages::Parse(brdfshot::fuzz::Bytes(data, size), "fuzz.bsbi");
+  } catch (const brdfshot::Error&) {
+  }
+  return 0;
+}

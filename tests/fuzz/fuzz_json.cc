@@ -1,0 +1,31 @@
+// The JSON files the stages read: class model, sphere file, response curve —
+// through the same file reader the commands use (ReadJsonFile).
+#include "capture/response.h"
+#include "fit/class_model.h"
+#include "normals/sphere_view.h"
+#include "tests/fuzz/fuzz_input.h"
+#include "util/atomic_file.h"
+#include "util/check.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string path = brdfshot::fuzz::WriteTemp(data, size, ".json");
+  nlohmann::json j;
+  try {
+    j = brdfshot::ReadJsonFile(path);
+  } catch (const brdfshot::Error&) {
+    return 0;
+  }
+  try {
+    brdfshot::ClassModel::FromJson(j, path);
+  } catch (const brdfshot::Error&) {
+  }
+  try {
+    brdfshot::SphereView::FromJson(j, path);
+  } catch (const brdfshot::Error&) {
+  }
+  try {
+    brdfshot::ResponseCurve::FromJson(j, path);
+  } catch (const brdfshot::Error&) {
+  }
+  return 0;
+}
