@@ -1,5 +1,7 @@
 #include "apps/brdf_source.h"
 
+#include <filesystem>
+
 #include <nlohmann/json.hpp>
 
 #include "fit/database.h"
@@ -62,6 +64,13 @@ MerlBrdf BrdfSourceArgs::Load(const DatabaseArgs& db, std::string* label) const 
   ResolveDatabaseKind(opt, &folder);
   *label = nbrdf + " (MERL, NBRDF approximation)";
   return NbrdfToMerl(NbrdfNetwork::Load(folder + "/npy", nbrdf), opt.grid);
+}
+
+std::string BrdfSourceArgs::ToArgs() const {
+  if (!standin.empty()) return "--standin " + standin;
+  if (!nbrdf.empty()) return "--nbrdf " + nbrdf;
+  if (!merl.empty()) return "--merl " + std::filesystem::absolute(merl).string();
+  return "--weights " + std::filesystem::absolute(weights).string();
 }
 
 }  // namespace brdfshot

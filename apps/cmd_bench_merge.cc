@@ -204,11 +204,8 @@ int BenchMergeMain(int argc, char** argv) {
       ("methods", po::value(&methods_arg)->default_value(methods_arg), "methods to run (cv-robertson takes minutes at 12 MP)")
       ("out,o", po::value(&out)->default_value(out), "output folder: table (markdown, CSV)");
   if (!ParseOptions("bench-merge", "[options]", desc, argc, argv)) return 0;
-  int width = 0, height = 0;
-  char x;
-  std::istringstream ss(size_arg);
-  if (!(ss >> width >> x >> height) || x != 'x' || width < 16 || height < 16)
-    throw Error("bad --size '" + size_arg + "': expected WIDTHxHEIGHT, each ≥ 16");
+  const cv::Size size = ParseImageSize(size_arg, "--size", 16);
+  const int width = size.width, height = size.height;
   if (frames < 2) throw Error("--frames must be at least 2");
   if (!(stops > 0)) throw Error("--stops must be positive");
   MakeOutputDir(out);

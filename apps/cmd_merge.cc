@@ -197,15 +197,11 @@ int MergeMain(int argc, char** argv) {
       if (exposure[j] > exposure[longest]) longest = j;
     }
     const double top = frames[0].depth() == CV_8U ? 255 : 65535;
-    auto fraction = [&](const cv::Mat& f, bool clipped) {
-      cv::Mat flat = f.reshape(1);
-      if (clipped) return cv::countNonZero(flat >= 0.98 * top) / double(flat.total());
-      return cv::countNonZero(flat <= 0.02 * top) / double(flat.total());
-    };
-    if (fraction(frames[shortest], true) > 0.999)
+    const cv::Mat short_codes = frames[shortest].reshape(1), long_codes = frames[longest].reshape(1);
+    if (cv::countNonZero(short_codes >= 0.98 * top) > 0.999 * short_codes.total())
       throw FileError(files[shortest], "is saturated everywhere, and it is the shortest exposure of the bracket: "
                                        "nothing was measured; shoot shorter exposures");
-    if (fraction(frames[longest], false) > 0.999)
+    if (cv::countNonZero(long_codes <= 0.02 * top) > 0.999 * long_codes.total())
       throw FileError(files[longest], "is black everywhere, and it is the longest exposure of the bracket: "
                                       "nothing was measured; shoot longer exposures");
   }
@@ -231,13 +227,11 @@ int MergeMain(int argc, char** argv) {
   WriteFileAtomicByName(mask_out, [&](const std::string& tmp) {
     if (!cv::imwrite(tmp, m.mask)) throw FileError(tmp, "cannot write mask");
   });
-  std::string cmdline;
-  for (int i = 0; i < argc; ++i) cmdline += (i ? " " : "") + std::string(argv[i]);
   const nlohmann::json side = {{"format", "brdfshot-merge-1"}, {"frames", frames_json}, {"camera", camera},
                                {"response", response.ToJson()}, {"raw", raw}, {"aligned", align},
                                {"unreliable_fraction", m.unreliable_fraction}, {"output", out},
                                {"mask", mask_out}, {"half", half},
-                               {"response_plot", plotted ? plot_out : ""}, {"command", "brdfshot " + cmdline}};
+                               {"response_plot", plotted ? plot_out : ""}, {"command", CommandLine(argc, argv)}};
   WriteFileAtomic(sidecar, [&](std::ostream& o) { o << side.dump(1) << "\n"; });
   std::printf("merged %zu frames (%dx%d, %s) in %.2f s: %.2f %% of pixels unreliable\nwrote %s, %s, %s\n",
               files.size(), frames[0].cols, frames[0].rows, raw ? "RAW" : response.kind.c_str(), sw.Seconds(),

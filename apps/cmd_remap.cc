@@ -62,12 +62,10 @@ int RemapMain(int argc, char** argv) {
     const cv::Vec3f v = photo.at<cv::Vec3f>(obs.geometry.y[p], obs.geometry.x[p]);
     for (int c = 0; c < 3; ++c) obs.rgb(p, c) = v[c] / scale;
   }
-  std::string cmdline;
-  for (int i = 0; i < argc; ++i) cmdline += (i ? " " : "") + std::string(argv[i]);
   obs.header = {{"photo", photo_path}, {"sphere", sphere_path}, {"calib", calib_path},
                 {"probe", calib.value("probe", "")}, {"unreliable", unreliable_path},
                 {"margin_deg", mask.max_angle_deg}, {"rim_px", mask.rim_margin_px}, {"scale", scale},
-                {"command", "brdfshot " + cmdline}};
+                {"command", CommandLine(argc, argv)}};
   obs.Write(out);
   std::printf("%zu pixels of %s in the probe frame (scale 1/%g)\nwrote %s\n", obs.geometry.size(), photo_path.c_str(),
               scale, out.c_str());

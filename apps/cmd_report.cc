@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
@@ -15,6 +14,7 @@
 #include "normals/sphere_view.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/image_error.h"
 #include "util/image_io.h"
 
 namespace brdfshot {
@@ -27,17 +27,6 @@ std::string Fixed(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;
-}
-
-// Relative RMSE of `test` against `ref` over the reference's lit pixels.
-double RelativeRmse(const cv::Mat& ref, const cv::Mat& test) {
-  double num = 0, den = 0;
-  for (int y = 0; y < ref.rows; ++y)
-    for (int x = 0; x < ref.cols; ++x) {
-      const cv::Vec3f p = ref.at<cv::Vec3f>(y, x), q = test.at<cv::Vec3f>(y, x);
-      for (int c = 0; c < 3; ++c) num += double(p[c] - q[c]) * (p[c] - q[c]), den += double(p[c]) * p[c];
-    }
-  return den > 0 ? std::sqrt(num / den) : NAN;
 }
 
 // The last logged time of each (command, output) from BRDFSHOT_TIME_LOG lines,
@@ -169,8 +158,9 @@ int ReportMain(int argc, char** argv) {
         const cv::Mat truth = ReadHdrImage(tp.string());
         if (truth.size() != fit.size()) throw FileError(tp.string(), "size differs from " + fp.string());
         cv::hconcat(fit, truth, shown);
-        caption = "fit (left), truth (right): relative RMSE **" + Fixed(RelativeRmse(truth, fit), 4) + "**";
-        summary += (summary.empty() ? "" : ", ") + probe + " " + Fixed(RelativeRmse(truth, fit), 4);
+        const std::string err = Fixed(CompareLinearImages(truth, fit).relative_rmse, 4);
+        caption = "fit (left), truth (right): relative RMSE **" + err + "**";
+        summary += (summary.empty() ? "" : ", ") + probe + " " + err;
       }
       WritePngTonemapped((pics / ("relit_" + probe + ".png")).string(), shown, AutoExposure(shown));
       md << "- " << probe << ": " << caption << "\n\n  ![" << probe << "](" << rel(pics / ("relit_" + probe + ".png")) << ")\n\n";
@@ -182,14 +172,10 @@ int ReportMain(int argc, char** argv) {
     double total = 0;
     md << "\n## Stage wall times\n\n| stage | seconds |\n|---|---|\n";
     for (const auto& [stage, t] : StageTimes((r / "times.tsv").string())) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.2f", t);
-      md << "| " << stage << " | " << buf << " |\n";
+      md << "| " << stage << " | " << Fixed(t, 2) << " |\n";
       total += t;
     }
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2f", total);
-    md << "| **all** | **" << buf << "** |\n";
+    md << "| **all** | **" << Fixed(total, 2) << "** |\n";
   }
   WriteFileAtomic(out, [&](std::ostream& o) { o << md.str(); });
   std::printf("\nBRDF (MERL format): %s\npreviews: %s/, %s/\nreport: %s (pictures in %s/)\n",

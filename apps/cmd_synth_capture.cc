@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 
 #include "apps/brdf_source.h"
 #include "apps/command.h"
@@ -99,12 +98,9 @@ int SynthCaptureMain(int argc, char** argv) {
     throw Error("unknown --format '" + format_name + "': expected jpg or png16");
   format.jpeg = format_name == "jpg";
   if (!format.jpeg) camera.raw_bits = 14;
-  {
-    char x = 0;
-    std::istringstream s(size);
-    if (!(s >> shot.width >> x >> shot.height) || x != 'x' || shot.width < 32 || shot.height < 32)
-      throw Error("bad --size '" + size + "': expected e.g. 640x480");
-  }
+  const cv::Size image = ParseImageSize(size, "--size", 32);
+  shot.width = image.width;
+  shot.height = image.height;
   shot.centre_px = {shot.width * 0.55, shot.height * 0.46};
   if (!at.empty()) {
     const std::vector<double> p = ParseNumberList(at, 2, "--at", "x,y in pixels");
@@ -134,25 +130,21 @@ int SynthCaptureMain(int argc, char** argv) {
   WriteExr((dir / "truth" / "probe.exr").string(), pano.rgb());
   WriteFileAtomic((dir / "truth" / "sphere.json").string(),
                   [&](std::ostream& o) { o << photo.view.ToJson().dump(1) << "\n"; });
-  std::string truth_args = !src.standin.empty() ? "--standin " + src.standin
-                         : !src.nbrdf.empty()   ? "--nbrdf " + src.nbrdf
-                         : !src.merl.empty()    ? "--merl " + fs::absolute(src.merl).string()
-                                                : "--weights " + fs::absolute(src.weights).string();
-  std::string cmdline;
-  for (int i = 0; i < argc; ++i) cmdline += (i ? " " : "") + std::string(argv[i]);
+  const std::string truth_args = src.ToArgs();
+  const std::string cmdline = CommandLine(argc, argv);
   const nlohmann::json truth = {
       {"format", "brdfshot-synthetic-capture-1"}, {"material", label}, {"material_args", truth_args},
       {"probe", probe_path}, {"yaw_pitch_roll_deg", ypr}, {"rotation_camera_to_probe", shot.camera_to_probe.m},
       {"sphere", photo.view.ToJson()}, {"photo_times", photo_times}, {"probe_times", probe_times},
       {"camera", {{"gamma", camera.gamma}, {"shoulder", camera.shoulder}, {"full_well", camera.full_well},
                   {"read_noise", camera.read_noise}, {"raw_bits", camera.raw_bits}, {"seed", camera.seed}}},
-      {"render_quality", quality.q.Describe()}, {"command", "brdfshot " + cmdline}};
+      {"render_quality", quality.q.Describe()}, {"command", cmdline}};
   WriteFileAtomic((dir / "truth" / "truth.json").string(), [&](std::ostream& o) { o << truth.dump(1) << "\n"; });
   // The capture's config, in Make syntax so samples/Makefile can include it;
   // a real capture folder has the same file, written by hand.
   WriteFileAtomic((dir / "capture.mk").string(), [&](std::ostream& o) {
     o << "# brdfshot capture folder: photo/ (bracket of the sphere), probe/ (bracket of the probe).\n"
-      << "# Written by: brdfshot " << cmdline << "\n"
+      << "# Written by: " << cmdline << "\n"
       << "FOCAL_PX     = " << shot.focal_px << "\n"
       << "ROTATE       = " << rotate << "\n"
       << "PROBE_LAYOUT = latlong\n"

@@ -17,6 +17,10 @@ struct Command {
 
 const std::vector<Command>& Commands();
 
+// "brdfshot <command> <args…>" from a subcommand's argc/argv: the provenance
+// line sidecars record and the stage-time log keys on.
+std::string CommandLine(int argc, char** argv);
+
 // Parses argv against `desc` (plus --help). Returns false after printing help,
 // throws brdfshot::Error with the parser's message on a bad option.
 bool ParseOptions(const std::string& command, const std::string& usage,

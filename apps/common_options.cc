@@ -43,6 +43,15 @@ MerlGrid ParseGrid(const std::string& text) {
   return g;
 }
 
+cv::Size ParseImageSize(const std::string& text, const std::string& option, int min_side) {
+  int width = 0, height = 0;
+  char x = 0;
+  std::istringstream s(text);
+  if (!(s >> width >> x >> height) || x != 'x' || width < min_side || height < min_side)
+    throw Error("bad " + option + " '" + text + "': expected WIDTHxHEIGHT, each ≥ " + std::to_string(min_side));
+  return {width, height};
+}
+
 std::vector<std::string> SplitList(const std::string& text) {
   std::vector<std::string> out;
   std::stringstream s(text);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <boost/program_options.hpp>
+#include <opencv2/core.hpp>
 #include <string>
 
 #include "fit/database.h"
@@ -18,6 +19,9 @@ struct DatabaseArgs {
 };
 
 MerlGrid ParseGrid(const std::string& text);  // "90x90x180"
+// An image size "WIDTHxHEIGHT" given to `option`, each side ≥ `min_side`;
+// Error quoting the option and its text otherwise.
+cv::Size ParseImageSize(const std::string& text, const std::string& option, int min_side);
 std::vector<std::string> SplitList(const std::string& text);  // "a,b,c"
 // `count` comma-separated numbers given to `option` (e.g. "--wb", names "R,G,B");
 // Error quoting the option and its text otherwise.

@@ -36,6 +36,12 @@ const std::vector<Command>& Commands() {
   return kCommands;
 }
 
+std::string CommandLine(int argc, char** argv) {
+  std::string line = "brdfshot";
+  for (int i = 0; i < argc; ++i) line += std::string(" ") + argv[i];
+  return line;
+}
+
 bool ParseOptions(const std::string& command, const std::string& usage, po::options_description& desc,
                   int argc, char** argv, po::positional_options_description* positional) {
   desc.add_options()("help,h", "show this help");
@@ -72,9 +78,7 @@ static void PrintUsage() {
 static void LogStageTime(int argc, char** argv, double seconds) {
   const char* log = std::getenv("BRDFSHOT_TIME_LOG");
   if (!log || !*log) return;
-  std::string line = std::to_string(seconds) + "\tbrdfshot";
-  for (int i = 1; i < argc; ++i) line += std::string(" ") + argv[i];
-  line += "\n";
+  const std::string line = std::to_string(seconds) + "\t" + brdfshot::CommandLine(argc - 1, argv + 1) + "\n";
   const int fd = ::open(log, O_WRONLY | O_CREAT | O_APPEND, 0644);
   if (fd < 0) return;  // timing is a convenience: never fail a stage over it
   if (::write(fd, line.data(), line.size()) < 0) { /* same */ }

@@ -59,9 +59,10 @@ SyntheticPhoto RenderSphereShot(const MerlBrdf& brdf, const LatLongProbe& probe,
   };
   for (int y = box.y; y < box.y + box.height; ++y)
     for (int x = box.x; x < box.x + box.width; ++x) {
-      if (v.RimDistance(x + 0.5, y + 0.5) > 1.0) {
+      const double inside = v.RimDistance(x + 0.5, y + 0.5);
+      if (inside > 1.0) {
         add(x, y, x + 0.5, y + 0.5, 1.0f);
-      } else if (v.RimDistance(x + 0.5, y + 0.5) > -1.0) {
+      } else if (inside > -1.0) {
         int hits = 0;
         for (int j = 0; j < k; ++j)
           for (int i = 0; i < k; ++i) hits += add(x, y, x + (i + 0.5) / k, y + (j + 0.5) / k, 1.0f / (k * k));

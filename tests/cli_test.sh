@@ -68,5 +68,12 @@ check fit-both 1 "exactly one of --photo and --obs" -- "$B" fit $DB --basis "$T/
 check obs-bad 1 "bad.binary: not a brdfshot observation file" -- "$B" basis $DB --probe "$PROBE" --obs "$T/bad.binary" -o "$T/bo2.bsbi"
 # bench-merge runs end to end on a small scene and beats OpenCV's Debevec there.
 check bench-merge 0 "wrote" -- "$B" bench-merge --probes "$PROBE" --size 128x64 --methods ours,cv-debevec -o "$T/bm"
+# synth-capture and report: help, bad options, bad folders.
+check synth-help 0 "--format" -- "$B" synth-capture --help
+check synth-size 1 "bad --size '64x2'" -- "$B" synth-capture --probe "$PROBE" --standin demo-gold $DB --size 64x2 -o "$T/cap"
+check synth-format 1 "unknown --format 'tiff'" -- "$B" synth-capture --probe "$PROBE" --standin demo-gold $DB --format tiff -o "$T/cap"
+[ ! -e "$T/cap" ] && pass=$((pass+1)) || { echo "FAIL synth-capture wrote a folder on bad options"; fail=$((fail+1)); }
+check report-help 0 "--results" -- "$B" report --help
+check report-nofolder 1 "$T/none: is not a results folder" -- "$B" report --results "$T/none"
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]
