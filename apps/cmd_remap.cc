@@ -34,13 +34,14 @@ int RemapMain(int argc, char** argv) {
                                      std::to_string(photo.rows));
   Rotation rot;
   double scale = 1;
-  nlohmann::json calib;
+  std::string probe_name;  // provenance only; without --calib the photo is taken as in the probe frame
   if (!calib_path.empty()) {
-    calib = ReadJsonFile(calib_path);
+    const nlohmann::json calib = ReadJsonFile(calib_path);
     try {
       if (calib.at("format") != "brdfshot-calib-1") throw FileError(calib_path, "not a brdfshot calibration");
       rot.m = calib.at("rotation_camera_to_probe").get<decltype(rot.m)>();
       scale = calib.at("scale");
+      probe_name = calib.value("probe", "");
     } catch (const nlohmann::json::exception& e) {
       throw FileError(calib_path, std::string("incomplete calibration: ") + e.what());
     }
@@ -63,7 +64,7 @@ int RemapMain(int argc, char** argv) {
     for (int c = 0; c < 3; ++c) obs.rgb(p, c) = v[c] / scale;
   }
   obs.header = {{"photo", photo_path}, {"sphere", sphere_path}, {"calib", calib_path},
-                {"probe", calib.value("probe", "")}, {"unreliable", unreliable_path},
+                {"probe", probe_name}, {"unreliable", unreliable_path},
                 {"margin_deg", mask.max_angle_deg}, {"rim_px", mask.rim_margin_px}, {"scale", scale},
                 {"command", CommandLine(argc, argv)}};
   obs.Write(out);

@@ -87,7 +87,7 @@ int SynthCaptureMain(int argc, char** argv) {
       ("full-well", po::value(&camera.full_well)->default_value(camera.full_well), "sensor full well, electrons")
       ("read-noise", po::value(&camera.read_noise)->default_value(camera.read_noise), "read noise, electrons RMS")
       ("seed", po::value(&camera.seed)->default_value(camera.seed), "noise seed")
-      ("probe-width", po::value(&probe_width)->default_value(probe_width), "width of the probe's own bracket (lat-long panorama)");
+      ("probe-shot-width", po::value(&probe_width)->default_value(probe_width), "width of the probe's own bracket (lat-long panorama; the rendering quality's --probe-width is separate)");
   src.Add(desc);
   db.Add(desc);
   quality.Add(desc);

@@ -7,6 +7,8 @@
 #include <unistd.h>
 #include <exception>
 #include <iostream>
+#include <set>
+#include <string>
 
 #include "apps/command.h"
 #include "util/check.h"
@@ -45,6 +47,12 @@ std::string CommandLine(int argc, char** argv) {
 bool ParseOptions(const std::string& command, const std::string& usage, po::options_description& desc,
                   int argc, char** argv, po::positional_options_description* positional) {
   desc.add_options()("help,h", "show this help");
+  // Two options of one name (a command's own and a shared group's) make every
+  // use of that name "ambiguous" at run time: a programming error, caught here.
+  std::set<std::string> names;
+  for (const auto& o : desc.options())
+    BRDFSHOT_CHECK(names.insert(o->long_name()).second,
+                       "brdfshot " + command + " registers --" + o->long_name() + " twice");
   po::variables_map vm;
   try {
     po::command_line_parser parser(argc, argv);

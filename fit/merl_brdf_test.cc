@@ -187,3 +187,26 @@ TEST(MerlRealData, KnownFactsOfTheMerlDatabase) {
 }
 
 }  // namespace brdfshot
+
+namespace brdfshot {
+
+// Found by fuzz_merl: a header claiming a 4000³ table in a 12-byte file must be
+// refused by its size before 1.5 TB is allocated (bad_alloc is not FileError).
+TEST(MerlBrdf, HugeHeaderInATinyFileIsRefusedBeforeAllocating) {
+  const std::string path = (std::filesystem::temp_directory_path() / "brdfshot_huge_header.binary").string();
+  {
+    std::ofstream out(path, std::ios::binary);
+    const int32_t dims[3] = {4000, 4000, 4000};
+    out.write(reinterpret_cast<const char*>(dims), sizeof dims);
+  }
+  try {
+    MerlBrdf::Read(path);
+    ADD_FAILURE() << "accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("does not match header"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+}  // namespace brdfshot

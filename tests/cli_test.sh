@@ -23,6 +23,11 @@ check out-folder 1 "is a folder" -- "$B" render --standin demo-gold $DB --probe 
 check unknown-cmd 2 "unknown command" -- "$B" frobnicate
 check bad-option 1 "see --help" -- "$B" eval --no-such-flag
 check help 0 "--probe" -- "$B" basis --help
+# Every registered command answers --help (an option registered twice — a
+# command's own and a shared group's — is an internal error there).
+for cmd in $("$B" 2>&1 | sed -n 's/^  \([a-z][a-z-]*\) .*/\1/p'); do
+  check "help-$cmd" 0 "usage: brdfshot $cmd" -- "$B" "$cmd" --help
+done
 check bad-grid 1 "bad --grid" -- "$B" cluster --db standin --data "$DATA" --grid 9x9 -o "$T/c.json"
 # merge: one frame, missing EXIF, then a two-frame bracket with a times file.
 # Two PNG exposures of one render, 1 EV apart (the tone map's fixed exposure).
@@ -59,6 +64,7 @@ check calib 0 "rotation yaw 10.00" -- "$B" calib --probe "$PROBE" --rotate 10,0,
 check calib-bad-rotate 1 "bad --rotate" -- "$B" calib --probe "$PROBE" --rotate 10,0 -o "$T/probe2.exr"
 check calib-bad-layout 1 "unknown --layout" -- "$B" calib --probe "$PROBE" --layout cube -o "$T/probe2.exr"
 check remap 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" --calib "$T/probe.json" -o "$T/obs.bsobs"
+check remap-nocalib 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" -o "$T/obs-nocalib.bsobs"
 check remap-size 1 "sphere.json: is for a 104x104 photo" -- "$B" remap --photo "$T/photo.exr" --sphere "$T/sphere.json" -o "$T/obs2.bsobs"
 check remap-notjson 1 "bad.binary: not JSON" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/bad.binary" -o "$T/obs2.bsobs"
 check basis-obs 0 "wrote" -- "$B" basis $DB --probe "$T/probe.exr" --obs "$T/obs.bsobs" -o "$T/bo.bsbi"

@@ -114,5 +114,33 @@ TEST(ImageIo, ErrorsNameTheFile) {
   EXPECT_THROW(ReadHdrImage(std::filesystem::temp_directory_path().string()), Error);
 }
 
+// A corrupt attribute size is refused before OpenEXR allocates it; the file is
+// otherwise our own valid EXR, so the check is also shown not to refuse one.
+TEST(ImageIo, ExrAttributeSizeBeyondTheFileIsRefused) {
+  const std::string path = TempPath("attr.exr");
+  WriteExr(path, HdrRamp());
+  ASSERT_NO_THROW(ReadHdrImage(path));
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // The first attribute follows the 8-byte magic/version: "channels\0chlist\0" + int32 size.
+  const size_t at = 8 + std::string("channels").size() + 1 + std::string("chlist").size() + 1;
+  ASSERT_EQ(bytes.compare(8, 8, "channels"), 0);
+  const int32_t huge = 1 << 30;
+  bytes.replace(at, 4, reinterpret_cast<const char*>(&huge), 4);
+  { std::ofstream(path, std::ios::binary) << bytes; }
+  try {
+    ReadHdrImage(path);
+    FAIL() << "corrupt attribute size accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("attribute 'channels' claims 1073741824 bytes"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+  }
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace brdfshot
