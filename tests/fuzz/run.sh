@@ -36,7 +36,7 @@ for t in $TARGETS; do
   mkdir -p "$FB/corpus/$t"
   echo "== fuzz_$t: $RUNS runs"
   rc=0
-  ASAN_OPTIONS=detect_leaks=0 "$FB/tests/fuzz/fuzz_$t" -runs="$RUNS" -seed=1 -max_len=65536 -rss_limit_mb=4096 \
+  ASAN_OPTIONS=detect_leaks=0 "$FB/tests/fuzz/fuzz_$t" -runs="$RUNS" -seed=1 -artifact_prefix="$FB/" -max_len=65536 -rss_limit_mb=4096 \
     -print_final_stats=1 "$FB/corpus/$t" "$S/$t" > "$FB/fuzz_$t.log" 2>&1 || rc=$?
   grep -E "^(stat::number_of_executed_units|Done)|ERROR|SUMMARY" "$FB/fuzz_$t.log" || true
   [ "$rc" = 0 ] || { echo "fuzz_$t FAILED (rc $rc): see $FB/fuzz_$t.log"; exit 1; }
