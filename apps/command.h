@@ -35,6 +35,7 @@ int ClusterMain(int argc, char** argv);
 int EvalMain(int argc, char** argv);
 int BasisMain(int argc, char** argv);
 int BenchMergeMain(int argc, char** argv);
+int BenchDetectMain(int argc, char** argv);
 int RenderMain(int argc, char** argv);
 int FitMain(int argc, char** argv);
 int CompareMain(int argc, char** argv);

@@ -32,6 +32,7 @@ const std::vector<Command>& Commands() {
       {"report", "one capture's results as markdown + pictures: photo, sphere, class and residuals, relit vs truth, stage times", ReportMain},
       {"compare", "relative RMSE of one linear image against a reference", CompareMain},
       {"bench-merge", "HDR merge against ground truth, beside OpenCV's Debevec and Robertson", BenchMergeMain},
+      {"bench-detect", "sphere detection vs known truth, beside OpenCV HoughCircles alone (error and time)", BenchDetectMain},
       {"bench-basis", "basis images: speed against error vs a cached converged reference", BenchBasisMain},
       {"eval", "leave-one-out evaluation against least squares, the paper and the oracle", EvalMain},
   };
