@@ -7,6 +7,7 @@
 
 #include "apps/command.h"
 #include "apps/common_options.h"
+#include "calib/probe_alignment.h"
 #include "calib/probe_layout.h"
 #include "calib/sun_probe.h"
 #include "normals/sphere_detect.h"
@@ -18,8 +19,29 @@
 namespace brdfshot {
 namespace po = boost::program_options;
 
+namespace {
+// A photographed mirror ball, found by the sphere detector and unwrapped to
+// lat-long in the camera's frame; its circle and options go into `j`.
+UnwrappedBall UnwrapBallPhoto(const std::string& path, int width, const MirrorBallOptions& ball, nlohmann::json* j) {
+  const cv::Mat img = ReadHdrImage(path);
+  SphereDetection det;
+  try {
+    det = DetectSphere(img);
+  } catch (const Error& e) {
+    throw FileError(path, e.what());
+  }
+  UnwrappedBall u = UnwrapMirrorBall(img, det.circle.cx, det.circle.cy, det.circle.r, width, ball);
+  *j = {{"photo", path}, {"cx", det.circle.cx}, {"cy", det.circle.cy}, {"r", det.circle.r},
+        {"reflectance", ball.reflectance}, {"max_normal_deg", ball.max_normal_deg},
+        {"camera_hole_deg", ball.camera_hole_deg},
+        {"measured_fraction", cv::countNonZero(u.measured) / double(u.measured.total())}};
+  return u;
+}
+}  // namespace
+
 int CalibMain(int argc, char** argv) {
   std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar, sun, sun_radiance = "1,1,1";
+  std::string rotate_from_ball;
   double sun_deg = 1.0;
   double scale = 1;
   int width = 0;
@@ -33,6 +55,7 @@ int CalibMain(int argc, char** argv) {
       ("layout", po::value(&layout)->default_value(layout), "latlong | angular | mirrorball (a photo of a chrome ball)")
       ("width", po::value(&width)->default_value(0), "lat-long width to write (0: as given, 512 for converted layouts)")
       ("rotate", po::value(&rotate)->default_value(rotate), "camera → probe rotation as yaw,pitch,roll degrees (util/rotation.h)")
+      ("rotate-from-ball", po::value(&rotate_from_ball), "instead of --rotate: estimate the rotation from this HDR photo of a mirror ball taken from the camera's position (calib/probe_alignment.h)")
       ("scale", po::value(&scale)->default_value(scale), "photo radiance per probe radiance (exposure ratio)")
       ("ball-reflectance", po::value(&ball.reflectance)->default_value(ball.reflectance), "mirror ball reflectance")
       ("ball-max-angle", po::value(&ball.max_normal_deg)->default_value(ball.max_normal_deg), "ball normals beyond this (deg) are the unreliable rim")
@@ -44,9 +67,10 @@ int CalibMain(int argc, char** argv) {
     return 0;
   if (probe_path.empty() == sun.empty()) throw Error("calib: give exactly one of --probe and --sun");
   if (sidecar.empty()) sidecar = std::filesystem::path(out).replace_extension(".json").string();
-  const std::vector<double> a = ParseNumberList(rotate, 3, "--rotate", "yaw,pitch,roll in degrees");
+  std::vector<double> a = ParseNumberList(rotate, 3, "--rotate", "yaw,pitch,roll in degrees");
   if (!(scale > 0)) throw Error("--scale must be positive");
-  const Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
+  if (!rotate_from_ball.empty() && rotate != "0,0,0") throw Error("calib: give --rotate or --rotate-from-ball, not both");
+  Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
   nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};
   LatLongProbe probe;
   if (!sun.empty()) {
@@ -65,20 +89,20 @@ int CalibMain(int argc, char** argv) {
     if (img.cols != img.rows) throw FileError(probe_path, "an angular map must be square");
     probe = AngularMapToLatLong(img, width > 0 ? width : 512);
   } else if (layout == "mirrorball") {
-    const cv::Mat img = ReadHdrImage(probe_path);
-    SphereDetection det;
-    try {
-      det = DetectSphere(img);
-    } catch (const Error& e) {
-      throw FileError(probe_path, e.what());
-    }
-    const UnwrappedBall u = UnwrapMirrorBall(img, det.circle.cx, det.circle.cy, det.circle.r, width > 0 ? width : 512, ball);
-    probe = u.probe;
-    j["ball"] = {{"cx", det.circle.cx}, {"cy", det.circle.cy}, {"r", det.circle.r}, {"reflectance", ball.reflectance},
-                 {"max_normal_deg", ball.max_normal_deg}, {"camera_hole_deg", ball.camera_hole_deg},
-                 {"measured_fraction", cv::countNonZero(u.measured) / double(u.measured.total())}};
+    nlohmann::json jb;
+    probe = UnwrapBallPhoto(probe_path, width > 0 ? width : 512, ball, &jb).probe;
+    j["ball"] = jb;
   } else {
     throw Error("unknown --layout '" + layout + "': expected latlong, angular or mirrorball");
+  }
+  if (!rotate_from_ball.empty()) {
+    nlohmann::json jb;
+    const UnwrappedBall u = UnwrapBallPhoto(rotate_from_ball, 256, ball, &jb);
+    const RotationFit fit = EstimateRotation(probe, u.probe, u.measured);
+    rot = fit.rotation;
+    a = {fit.yaw, fit.pitch, fit.roll};
+    jb["rms_log_radiance"] = fit.rms_log;
+    j["rotation_from_ball"] = jb;
   }
   WriteExr(out, probe.rgb());
   j["probe"] = out;
