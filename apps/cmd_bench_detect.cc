@@ -38,10 +38,8 @@ double Seconds(std::chrono::steady_clock::time_point t0) {
 // HoughCircles alone, full resolution; {0,0,0} when it finds nothing.
 Circle HoughAlone(const cv::Mat& rgb, double min_r, double max_r) {
   const cv::Mat ll = LogLuminance(rgb);
-  double lo, hi;
-  cv::minMaxLoc(ll, &lo, &hi);
-  cv::Mat u8;
-  ll.convertTo(u8, CV_8U, 255.0 / std::max(hi - lo, 1e-6), -lo * 255.0 / std::max(hi - lo, 1e-6));
+  cv::Mat u8;  // the log range stretched over 0…255 (HoughCircles takes 8-bit)
+  cv::normalize(ll, u8, 0, 255, cv::NORM_MINMAX, CV_8U);
   std::vector<cv::Vec3f> found;
   cv::HoughCircles(u8, found, cv::HOUGH_GRADIENT_ALT, 1.5, min_r, 300, 0.8, static_cast<int>(min_r),
                    static_cast<int>(max_r));

@@ -128,10 +128,8 @@ std::vector<Circle> HoughCandidates(const cv::Mat& rgb, const SphereDetectOption
   for (int level = 0; level < 2; ++level) {
     if (level) cv::resize(ll, ll, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
     const double scale = scale0 * (level ? 0.5 : 1.0);
-    double lo, hi;
-    cv::minMaxLoc(ll, &lo, &hi);
-    cv::Mat u8;
-    ll.convertTo(u8, CV_8U, 255.0 / std::max(hi - lo, 1e-6), -lo * 255.0 / std::max(hi - lo, 1e-6));
+    cv::Mat u8;  // the log range stretched over 0…255 (HoughCircles takes 8-bit)
+    cv::normalize(ll, u8, 0, 255, cv::NORM_MINMAX, CV_8U);
     const int side = std::min(u8.cols, u8.rows);
     std::vector<cv::Vec3f> found;
     // Gradient-alt: param2 is how perfect a circle must be (1 = perfect).
