@@ -77,6 +77,8 @@ check bench-merge 0 "wrote" -- "$B" bench-merge --probes "$PROBE" --size 128x64 
 # synth-capture and report: help, bad options, bad folders.
 check synth-help 0 "--format" -- "$B" synth-capture --help
 check synth-size 1 "bad --size '64x2'" -- "$B" synth-capture --probe "$PROBE" --standin demo-gold $DB --size 64x2 -o "$T/cap"
+check bench-detect-seeds 1 "--seeds must be at least 1" -- "$B" bench-detect --seeds 0
+check bench-detect-size 1 "bad --sizes '64x2'" -- "$B" bench-detect --sizes 64x2
 check synth-format 1 "unknown --format 'tiff'" -- "$B" synth-capture --probe "$PROBE" --standin demo-gold $DB --format tiff -o "$T/cap"
 [ ! -e "$T/cap" ] && pass=$((pass+1)) || { echo "FAIL synth-capture wrote a folder on bad options"; fail=$((fail+1)); }
 check report-help 0 "--results" -- "$B" report --help

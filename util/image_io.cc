@@ -31,7 +31,8 @@ std::string LowerExtension(const std::string& path) {
 // and refuses a size the file cannot hold. OpenEXR allocates each attribute at
 // its declared size before reading it, so a corrupt 1 KB file could otherwise
 // ask for 2 GB (found by fuzz_probe: it made every bad input take ~30 ms).
-void CheckExrHeaderSizes(const std::string& path) {
+// Returns the file's size.
+int64_t CheckExrHeaderSizes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::error_code ec;
   const auto file_size = static_cast<int64_t>(std::filesystem::file_size(path, ec));
@@ -51,7 +52,7 @@ void CheckExrHeaderSizes(const std::string& path) {
   };
   for (std::string name, type;;) {
     if (!read_string(&name)) throw FileError(path, "not a readable OpenEXR file: bad attribute name");
-    if (name.empty()) return;  // end of header
+    if (name.empty()) return file_size;  // end of header
     int32_t size = 0;
     if (!read_string(&type) || !in.read(reinterpret_cast<char*>(&size), 4))
       throw FileError(path, "not a readable OpenEXR file: truncated header");
@@ -67,7 +68,7 @@ void CheckExrHeaderSizes(const std::string& path) {
 // Read as 32-bit float whatever the file stores: the RGBA interface would hand
 // back half floats, which lose precision and turn a sun above 65504 into inf.
 cv::Mat ReadExr(const std::string& path) {
-  CheckExrHeaderSizes(path);
+  const int64_t bytes = CheckExrHeaderSizes(path);
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
@@ -75,8 +76,6 @@ cv::Mat ReadExr(const std::string& path) {
     // Any compression of a real image keeps well under 4096 pixels per byte;
     // past 16 MP a window larger than that is a corrupt header, not a picture
     // to allocate gigabytes for.
-    std::error_code ec;
-    const auto bytes = static_cast<long>(std::filesystem::file_size(path, ec));
     if (w <= 0 || h <= 0 || w > (1L << 20) || h > (1L << 20) || (w * h > (1L << 24) && w * h / 4096 > bytes))
       throw FileError(path, "bad data window " + std::to_string(w) + "x" + std::to_string(h) + " for a " +
                                 std::to_string(bytes) + "-byte file");
