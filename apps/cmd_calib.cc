@@ -1,6 +1,7 @@
 // brdfshot calib: the light probe in the pipeline's lat-long frame and its
 // relation to the camera: layout conversion (lat-long, angular map, mirror
-// ball), rotation camera → probe, radiometric scale photo units per probe unit.
+// ball), rotation camera → probe, radiometric scale photo units per probe unit
+// (given, or measured on a reference card in the photo).
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -9,6 +10,7 @@
 #include "apps/common_options.h"
 #include "calib/probe_alignment.h"
 #include "calib/probe_layout.h"
+#include "calib/radiometric_scale.h"
 #include "calib/sun_probe.h"
 #include "normals/sphere_detect.h"
 #include "util/atomic_file.h"
@@ -43,7 +45,8 @@ int CalibMain(int argc, char** argv) {
   std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar, sun, sun_radiance = "1,1,1";
   std::string rotate_from_ball;
   double sun_deg = 1.0;
-  double scale = 1;
+  std::string scale_arg, card_photo, card_region, card_normal = "0,0,1";
+  double card_albedo = 0.18;
   int width = 0;
   MirrorBallOptions ball;
   po::options_description desc("options");
@@ -56,19 +59,31 @@ int CalibMain(int argc, char** argv) {
       ("width", po::value(&width)->default_value(0), "lat-long width to write (0: as given, 512 for converted layouts)")
       ("rotate", po::value(&rotate)->default_value(rotate), "camera → probe rotation as yaw,pitch,roll degrees (util/rotation.h)")
       ("rotate-from-ball", po::value(&rotate_from_ball), "instead of --rotate: estimate the rotation from this HDR photo of a mirror ball taken from the camera's position (calib/probe_alignment.h)")
-      ("scale", po::value(&scale)->default_value(scale), "photo radiance per probe radiance (exposure ratio)")
+      ("scale", po::value(&scale_arg), "photo radiance per probe radiance: s or R,G,B (default 1: probe and photo merged with one camera and response)")
+      ("card", po::value(&card_photo), "instead of --scale: measure it on a reference card in this linear photo (the merged HDR of the sample's shot)")
+      ("card-region", po::value(&card_region), "--card's pixels x,y,w,h")
+      ("card-albedo", po::value(&card_albedo)->default_value(card_albedo), "--card's diffuse reflectance (grey card 0.18)")
+      ("card-normal", po::value(&card_normal)->default_value(card_normal), "--card's normal x,y,z in the camera frame (0,0,1: facing the camera)")
       ("ball-reflectance", po::value(&ball.reflectance)->default_value(ball.reflectance), "mirror ball reflectance")
       ("ball-max-angle", po::value(&ball.max_normal_deg)->default_value(ball.max_normal_deg), "ball normals beyond this (deg) are the unreliable rim")
       ("ball-camera-hole", po::value(&ball.camera_hole_deg)->default_value(ball.camera_hole_deg), "ball normals within this (deg) of the camera show the camera: filled in")
       ("sidecar", po::value(&sidecar), "calibration JSON (default: <out>.json)")
       ("out,o", po::value(&out)->default_value(out), "lat-long probe (EXR)");
-  if (!ParseOptions("calib", "(--probe P [--layout L] | --sun x,y,z) [--rotate y,p,r] [--scale s] [options]", desc,
+  if (!ParseOptions("calib", "(--probe P [--layout L] | --sun x,y,z) [--rotate y,p,r] [--scale s | --card PHOTO --card-region x,y,w,h] [options]", desc,
                     argc, argv))
     return 0;
   if (probe_path.empty() == sun.empty()) throw Error("calib: give exactly one of --probe and --sun");
   if (sidecar.empty()) sidecar = std::filesystem::path(out).replace_extension(".json").string();
   std::vector<double> a = ParseNumberList(rotate, 3, "--rotate", "yaw,pitch,roll in degrees");
-  if (!(scale > 0)) throw Error("--scale must be positive");
+  cv::Vec3d scale(1, 1, 1);
+  if (!scale_arg.empty()) {
+    const bool one = scale_arg.find(',') == std::string::npos;
+    const std::vector<double> v = ParseNumberList(scale_arg, one ? 1 : 3, "--scale", "s or R,G,B");
+    for (int c = 0; c < 3; ++c) scale[c] = v[one ? 0 : c];
+    if (!(scale[0] > 0 && scale[1] > 0 && scale[2] > 0)) throw Error("--scale must be positive");
+  }
+  if (!card_photo.empty() && !scale_arg.empty()) throw Error("calib: give --scale or --card, not both");
+  if (card_photo.empty() != card_region.empty()) throw Error("calib: --card and --card-region go together");
   if (!rotate_from_ball.empty() && rotate != "0,0,0") throw Error("calib: give --rotate or --rotate-from-ball, not both");
   Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
   nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};
@@ -104,16 +119,42 @@ int CalibMain(int argc, char** argv) {
     jb["rms_log_radiance"] = fit.rms_log;
     j["rotation_from_ball"] = jb;
   }
+  if (!card_photo.empty()) {
+    const std::vector<double> r = ParseNumberList(card_region, 4, "--card-region", "x,y,w,h in pixels");
+    const std::vector<double> n = ParseNumberList(card_normal, 3, "--card-normal", "x,y,z");
+    const ReferenceCard card{cv::Rect(static_cast<int>(r[0]), static_cast<int>(r[1]), static_cast<int>(r[2]),
+                                      static_cast<int>(r[3])),
+                             card_albedo, Vec3(n[0], n[1], n[2])};
+    if (!(Length(card.normal_camera) > 0)) throw Error("--card-normal must not be zero");
+    RadiometricScale rs;
+    try {
+      rs = ScaleFromReferenceCard(ReadHdrImage(card_photo), card, probe, rot);
+    } catch (const Error& e) {
+      throw FileError(card_photo, e.what());
+    }
+    scale = rs.scale;
+    j["scale_from_card"] = {{"photo", card_photo}, {"region", r}, {"albedo", card_albedo}, {"normal_camera", n},
+                            {"measured", {rs.measured[0], rs.measured[1], rs.measured[2]}},
+                            {"predicted", {rs.predicted[0], rs.predicted[1], rs.predicted[2]}},
+                            {"luminance_spread", rs.spread}, {"pixels", rs.pixels}};
+    std::printf("reference card: %d px, mean %.4g %.4g %.4g, a/pi E %.4g %.4g %.4g, spread %.1f %%\n", rs.pixels,
+                rs.measured[0], rs.measured[1], rs.measured[2], rs.predicted[0], rs.predicted[1], rs.predicted[2],
+                100 * rs.spread);
+    if (rs.spread > 0.1)
+      std::fprintf(stderr, "warning: %s: the card region varies by %.0f %% (std/mean): is it all card, evenly lit and flat?\n",
+                   card_photo.c_str(), 100 * rs.spread);
+  }
   WriteExr(out, probe.rgb());
   j["probe"] = out;
   j["width"] = probe.width();
   j["rotation_camera_to_probe"] = rot.m;
   j["yaw_pitch_roll_deg"] = {a[0], a[1], a[2]};
-  j["scale"] = scale;
+  j["scale"] = {scale[0], scale[1], scale[2]};
   WriteFileAtomic(sidecar, [&](std::ostream& s) { s << j.dump(1) << "\n"; });
-  std::printf("probe %s (%s) -> %dx%d lat-long; rotation yaw %.2f pitch %.2f roll %.2f deg, scale %g\nwrote %s, %s\n",
-              probe_path.c_str(), layout.c_str(), probe.width(), probe.height(), a[0], a[1], a[2], scale, out.c_str(),
-              sidecar.c_str());
+  std::printf("probe %s (%s) -> %dx%d lat-long; rotation yaw %.2f pitch %.2f roll %.2f deg, scale %g %g %g\n"
+              "wrote %s, %s\n",
+              probe_path.c_str(), layout.c_str(), probe.width(), probe.height(), a[0], a[1], a[2], scale[0], scale[1],
+              scale[2], out.c_str(), sidecar.c_str());
   return 0;
 }
 

@@ -33,20 +33,22 @@ int RemapMain(int argc, char** argv) {
                                      " photo, " + photo_path + " is " + std::to_string(photo.cols) + "x" +
                                      std::to_string(photo.rows));
   Rotation rot;
-  double scale = 1;
+  cv::Vec3d scale(1, 1, 1);
   std::string probe_name;  // provenance only; without --calib the photo is taken as in the probe frame
   if (!calib_path.empty()) {
     const nlohmann::json calib = ReadJsonFile(calib_path);
     try {
       if (calib.at("format") != "brdfshot-calib-1") throw FileError(calib_path, "not a brdfshot calibration");
       rot.m = calib.at("rotation_camera_to_probe").get<decltype(rot.m)>();
-      scale = calib.at("scale");
+      // One number (older sidecars) or R,G,B.
+      const nlohmann::json& js = calib.at("scale");
+      for (int c = 0; c < 3; ++c) scale[c] = js.is_array() ? js.at(c).get<double>() : js.get<double>();
       probe_name = calib.value("probe", "");
     } catch (const nlohmann::json::exception& e) {
       throw FileError(calib_path, std::string("incomplete calibration: ") + e.what());
     }
     if (rot.OrthonormalityError() > 1e-6) throw FileError(calib_path, "rotation is not orthonormal");
-    if (!(scale > 0)) throw FileError(calib_path, "scale must be positive");
+    if (!(scale[0] > 0 && scale[1] > 0 && scale[2] > 0)) throw FileError(calib_path, "scale must be positive");
   }
   cv::Mat unreliable;
   if (!unreliable_path.empty()) {
@@ -61,15 +63,15 @@ int RemapMain(int argc, char** argv) {
   obs.rgb.resize(obs.geometry.size(), 3);
   for (size_t p = 0; p < obs.geometry.size(); ++p) {
     const cv::Vec3f v = photo.at<cv::Vec3f>(obs.geometry.y[p], obs.geometry.x[p]);
-    for (int c = 0; c < 3; ++c) obs.rgb(p, c) = v[c] / scale;
+    for (int c = 0; c < 3; ++c) obs.rgb(p, c) = v[c] / scale[c];
   }
   obs.header = {{"photo", photo_path}, {"sphere", sphere_path}, {"calib", calib_path},
                 {"probe", probe_name}, {"unreliable", unreliable_path},
-                {"margin_deg", mask.max_angle_deg}, {"rim_px", mask.rim_margin_px}, {"scale", scale},
+                {"margin_deg", mask.max_angle_deg}, {"rim_px", mask.rim_margin_px}, {"scale", {scale[0], scale[1], scale[2]}},
                 {"command", CommandLine(argc, argv)}};
   obs.Write(out);
-  std::printf("%zu pixels of %s in the probe frame (scale 1/%g)\nwrote %s\n", obs.geometry.size(), photo_path.c_str(),
-              scale, out.c_str());
+  std::printf("%zu pixels of %s in the probe frame (divided by scale %g %g %g)\nwrote %s\n", obs.geometry.size(),
+              photo_path.c_str(), scale[0], scale[1], scale[2], out.c_str());
   return 0;
 }
 

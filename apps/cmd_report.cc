@@ -93,7 +93,7 @@ int ReportMain(int argc, char** argv) {
   if (fs::exists(r / "probe.json")) {
     const nlohmann::json c = ReadJsonFile((r / "probe.json").string());
     md << "- probe: " << c.value("source", "?") << " (" << c.value("layout", "?") << "), yaw/pitch/roll "
-       << c["yaw_pitch_roll_deg"].dump() << " deg, scale " << c.value("scale", 1.0) << "\n";
+       << c["yaw_pitch_roll_deg"].dump() << " deg, scale " << (c.contains("scale") ? c["scale"].dump() : "1") << "\n";
   }
   const fs::path truth_dir = capture.empty() ? fs::path() : fs::path(capture) / "truth";
   const bool synthetic = !capture.empty() && fs::exists(truth_dir / "truth.json");

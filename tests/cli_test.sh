@@ -64,6 +64,19 @@ check calib 0 "rotation yaw 10.00" -- "$B" calib --probe "$PROBE" --rotate 10,0,
 check calib-bad-rotate 1 "bad --rotate" -- "$B" calib --probe "$PROBE" --rotate 10,0 -o "$T/probe2.exr"
 check calib-bad-layout 1 "unknown --layout" -- "$B" calib --probe "$PROBE" --layout cube -o "$T/probe2.exr"
 check remap 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" --calib "$T/probe.json" -o "$T/obs.bsobs"
+# Radiometric scale from a reference card (here the render's sphere centre):
+# halving the card's albedo doubles the scale, and remap divides by it.
+check calib-card 0 "reference card: 16 px" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 -o "$T/pc1.exr"
+s1=$("$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 -o "$T/pc1.exr" | sed -n 's/.*, scale \([0-9.e+-]*\) .*/\1/p')
+s2=$("$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 --card-albedo 0.09 -o "$T/pc2.exr" | sed -n 's/.*, scale \([0-9.e+-]*\) .*/\1/p')
+awk -v a="$s1" -v b="$s2" 'BEGIN{exit !(a > 0 && b / a > 1.999 && b / a < 2.001)}' && pass=$((pass+1)) || { echo "FAIL card scale $s1 vs half albedo $s2"; fail=$((fail+1)); }
+check remap-card 0 "divided by scale $s1" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" --calib "$T/pc1.json" -o "$T/obs-card.bsobs"
+check calib-card-out 1 "padded.exr: reference card region 100,50,40,4 is empty or leaves the 104x104 photo" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 100,50,40,4 -o "$T/pc3.exr"
+check calib-card-both 1 "give --scale or --card, not both" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 --scale 2 -o "$T/pc3.exr"
+check calib-card-away 1 "sends no light onto the reference card" -- "$B" calib --sun 0,0,-1 --card "$T/padded.exr" --card-region 50,50,4,4 -o "$T/pc3.exr"
+[ ! -e "$T/pc3.exr" ] && [ ! -e "$T/pc3.json" ] && pass=$((pass+1)) || { echo "FAIL calib wrote outputs on a bad card"; fail=$((fail+1)); }
+check calib-scale-rgb 0 "scale 1 2 3" -- "$B" calib --probe "$PROBE" --scale 1,2,3 -o "$T/pc4.exr"
+check calib-scale-bad 1 "--scale must be positive" -- "$B" calib --probe "$PROBE" --scale 1,0,3 -o "$T/pc4.exr"
 check remap-nocalib 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" -o "$T/obs-nocalib.bsobs"
 check remap-size 1 "sphere.json: is for a 104x104 photo" -- "$B" remap --photo "$T/photo.exr" --sphere "$T/sphere.json" -o "$T/obs2.bsobs"
 check remap-notjson 1 "bad.binary: not JSON" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/bad.binary" -o "$T/obs2.bsobs"
