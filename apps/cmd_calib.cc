@@ -22,18 +22,29 @@ namespace brdfshot {
 namespace po = boost::program_options;
 
 namespace {
-// A photographed mirror ball, found by the sphere detector and unwrapped to
-// lat-long in the camera's frame; its circle and options go into `j`.
-UnwrappedBall UnwrapBallPhoto(const std::string& path, int width, const MirrorBallOptions& ball, nlohmann::json* j) {
+// A photographed mirror ball, unwrapped to lat-long in the camera's frame; its
+// circle is `circle` (cx,cy,r) when given, else found by the sphere detector.
+// A ball's rim reflects what lies right behind it, so against its own
+// surroundings its silhouette can vanish: then the user marks the circle, as
+// HDR tools ask for. The circle and options go into `j`.
+UnwrappedBall UnwrapBallPhoto(const std::string& path, const std::string& circle, int width,
+                              const MirrorBallOptions& ball, nlohmann::json* j) {
   const cv::Mat img = ReadHdrImage(path);
-  SphereDetection det;
-  try {
-    det = DetectSphere(img);
-  } catch (const Error& e) {
-    throw FileError(path, e.what());
+  Circle c;
+  if (!circle.empty()) {
+    const std::vector<double> v = ParseNumberList(circle, 3, "--ball-circle", "cx,cy,r in pixels");
+    c = {v[0], v[1], v[2]};
+    if (!(c.r > 1)) throw Error("--ball-circle: the radius must be more than a pixel");
+  } else {
+    try {
+      c = DetectSphere(img).circle;
+    } catch (const Error& e) {
+      throw FileError(path, std::string(e.what()) + " (a mirror ball's rim can vanish against its surroundings: "
+                                                    "give --ball-circle cx,cy,r)");
+    }
   }
-  UnwrappedBall u = UnwrapMirrorBall(img, det.circle.cx, det.circle.cy, det.circle.r, width, ball);
-  *j = {{"photo", path}, {"cx", det.circle.cx}, {"cy", det.circle.cy}, {"r", det.circle.r},
+  UnwrappedBall u = UnwrapMirrorBall(img, c.cx, c.cy, c.r, width, ball);
+  *j = {{"photo", path}, {"cx", c.cx}, {"cy", c.cy}, {"r", c.r}, {"circle_given", !circle.empty()},
         {"reflectance", ball.reflectance}, {"max_normal_deg", ball.max_normal_deg},
         {"camera_hole_deg", ball.camera_hole_deg},
         {"measured_fraction", cv::countNonZero(u.measured) / double(u.measured.total())}};
@@ -43,7 +54,7 @@ UnwrappedBall UnwrapBallPhoto(const std::string& path, int width, const MirrorBa
 
 int CalibMain(int argc, char** argv) {
   std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar, sun, sun_radiance = "1,1,1";
-  std::string rotate_from_ball;
+  std::string rotate_from_ball, ball_circle;
   double sun_deg = 1.0;
   std::string scale_arg, card_photo, card_region, card_normal = "0,0,1";
   double card_albedo = 0.18;
@@ -64,6 +75,7 @@ int CalibMain(int argc, char** argv) {
       ("card-region", po::value(&card_region), "--card's pixels x,y,w,h")
       ("card-albedo", po::value(&card_albedo)->default_value(card_albedo), "--card's diffuse reflectance (grey card 0.18)")
       ("card-normal", po::value(&card_normal)->default_value(card_normal), "--card's normal x,y,z in the camera frame (0,0,1: facing the camera)")
+      ("ball-circle", po::value(&ball_circle), "the mirror ball's circle cx,cy,r in pixels (default: detected)")
       ("ball-reflectance", po::value(&ball.reflectance)->default_value(ball.reflectance), "mirror ball reflectance")
       ("ball-max-angle", po::value(&ball.max_normal_deg)->default_value(ball.max_normal_deg), "ball normals beyond this (deg) are the unreliable rim")
       ("ball-camera-hole", po::value(&ball.camera_hole_deg)->default_value(ball.camera_hole_deg), "ball normals within this (deg) of the camera show the camera: filled in")
@@ -85,6 +97,8 @@ int CalibMain(int argc, char** argv) {
   if (!card_photo.empty() && !scale_arg.empty()) throw Error("calib: give --scale or --card, not both");
   if (card_photo.empty() != card_region.empty()) throw Error("calib: --card and --card-region go together");
   if (!rotate_from_ball.empty() && rotate != "0,0,0") throw Error("calib: give --rotate or --rotate-from-ball, not both");
+  if (!ball_circle.empty() && !rotate_from_ball.empty() && layout == "mirrorball")
+    throw Error("calib: --ball-circle is ambiguous with both --layout mirrorball and --rotate-from-ball");
   Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
   nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};
   LatLongProbe probe;
@@ -105,14 +119,14 @@ int CalibMain(int argc, char** argv) {
     probe = AngularMapToLatLong(img, width > 0 ? width : 512);
   } else if (layout == "mirrorball") {
     nlohmann::json jb;
-    probe = UnwrapBallPhoto(probe_path, width > 0 ? width : 512, ball, &jb).probe;
+    probe = UnwrapBallPhoto(probe_path, ball_circle, width > 0 ? width : 512, ball, &jb).probe;
     j["ball"] = jb;
   } else {
     throw Error("unknown --layout '" + layout + "': expected latlong, angular or mirrorball");
   }
   if (!rotate_from_ball.empty()) {
     nlohmann::json jb;
-    const UnwrappedBall u = UnwrapBallPhoto(rotate_from_ball, 256, ball, &jb);
+    const UnwrappedBall u = UnwrapBallPhoto(rotate_from_ball, ball_circle, 256, ball, &jb);
     const RotationFit fit = EstimateRotation(probe, u.probe, u.measured);
     rot = fit.rotation;
     a = {fit.yaw, fit.pitch, fit.roll};

@@ -11,6 +11,7 @@
 #include "apps/command.h"
 #include "apps/common_options.h"
 #include "apps/synthetic_capture.h"
+#include "calib/probe_layout.h"
 #include "capture/exposure.h"
 #include "capture/synthetic_bracket.h"
 #include "util/atomic_file.h"
@@ -70,7 +71,7 @@ int SynthCaptureMain(int argc, char** argv) {
   CameraModel camera;
   FrameFormat format;
   double stops = 2;
-  int probe_width = 512;
+  int probe_width = 512, mirror_ball = 0;
   po::options_description desc("options");
   desc.add_options()
       ("probe,p", po::value(&probe_path)->required(), "lat-long light probe (the scene's true lighting)")
@@ -87,7 +88,8 @@ int SynthCaptureMain(int argc, char** argv) {
       ("full-well", po::value(&camera.full_well)->default_value(camera.full_well), "sensor full well, electrons")
       ("read-noise", po::value(&camera.read_noise)->default_value(camera.read_noise), "read noise, electrons RMS")
       ("seed", po::value(&camera.seed)->default_value(camera.seed), "noise seed")
-      ("probe-shot-width", po::value(&probe_width)->default_value(probe_width), "width of the probe's own bracket (lat-long panorama; the rendering quality's --probe-width is separate)");
+      ("probe-shot-width", po::value(&probe_width)->default_value(probe_width), "width of the probe's own bracket (lat-long panorama; the rendering quality's --probe-width is separate)")
+      ("mirror-ball", po::value(&mirror_ball)->default_value(0), "also write ball.exr: a mirror ball this many px across, shot from the camera (linear HDR), and let capture.mk estimate the rotation from it instead of stating it");
   src.Add(desc);
   db.Add(desc);
   quality.Add(desc);
@@ -126,6 +128,18 @@ int SynthCaptureMain(int argc, char** argv) {
   const std::vector<double> probe_times = CoveringBracketTimes(pano.rgb(), stops);
   const auto probe_frames = WriteBracket(pano.rgb(), probe_times, probe_camera, format, dir / "probe", "PANO_");
 
+  std::string ball_circle;  // where the ball is in ball.exr (the user marks it on a real one)
+  if (mirror_ball > 0) {
+    // The lighting as the camera sees it, L_cam(d) = L_probe(R d), in a ball
+    // with a black border so the detector sees its whole silhouette.
+    const cv::Mat ball = RenderMirrorBall(probe.Rotated(shot.camera_to_probe), mirror_ball);
+    const int pad = std::max(8, mirror_ball / 10);
+    cv::Mat framed;
+    cv::copyMakeBorder(ball, framed, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+    WriteExr((dir / "ball.exr").string(), framed);
+    ball_circle = std::to_string(pad + mirror_ball / 2.0) + "," + std::to_string(pad + mirror_ball / 2.0) + "," +
+                  std::to_string(mirror_ball / 2.0);
+  }
   WriteExr((dir / "truth" / "photo.exr").string(), photo.radiance);
   WriteExr((dir / "truth" / "probe.exr").string(), pano.rgb());
   WriteFileAtomic((dir / "truth" / "sphere.json").string(),
@@ -147,6 +161,10 @@ int SynthCaptureMain(int argc, char** argv) {
       << "# Written by: " << cmdline << "\n"
       << "FOCAL_PX     = " << shot.focal_px << "\n"
       << "ROTATE       = " << rotate << "\n"
+      << (mirror_ball > 0 ? "# The pipeline estimates the rotation from this mirror-ball photo (ROTATE, the\n"
+                            "# truth, is then used only by PERFECT=1 runs).\nBALL_FILE    = ball.exr\nBALL_CIRCLE  = " +
+                                ball_circle + "\n"
+                          : "")
       << "PROBE_LAYOUT = latlong\n"
       << "# Synthetic only: the true material, for the report's error against the truth.\n"
       << "TRUTH        = " << truth_args << "\n";

@@ -110,6 +110,14 @@ LatLongProbe LatLongProbe::Resized(int new_width) const {
   return LatLongProbe(out, name_ + "@" + std::to_string(new_width));
 }
 
+LatLongProbe LatLongProbe::Rotated(const Rotation& to_this) const {
+  cv::Mat img(height(), width(), CV_32FC3);
+  for (int r = 0; r < img.rows; ++r)
+    for (int c = 0; c < img.cols; ++c)
+      img.at<cv::Vec3f>(r, c) = Bilinear(to_this(DirectionAt(c + 0.5, r + 0.5)));
+  return LatLongProbe(img, name_ + "@rotated");
+}
+
 uint64_t LatLongProbe::Hash() const {
   uint64_t h = 1469598103934665603ull;
   const cv::Mat c = rgb_.isContinuous() ? rgb_ : rgb_.clone();

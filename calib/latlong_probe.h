@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "util/rotation.h"
 #include "util/vec3.h"
 
 namespace brdfshot {
@@ -38,6 +39,9 @@ class LatLongProbe {
   // Box-resampled to `width`×`width/2` with solid-angle weights (area-preserving
   // in radiant power), for probes finer than the scene needs.
   LatLongProbe Resized(int width) const;
+  // The same lighting in another frame: L'(d) = L(to_this(d)), read bilinearly
+  // (e.g. the probe as the camera sees it, `to_this` = camera → probe).
+  LatLongProbe Rotated(const Rotation& to_this) const;
   // Content hash (FNV-1a over the floats), used to key basis-image caches.
   uint64_t Hash() const;
 

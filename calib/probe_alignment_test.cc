@@ -13,11 +13,7 @@ namespace {
 
 // The lighting as the camera sees it: L_cam(d) = scale · L_probe(R d).
 LatLongProbe InCameraFrame(const LatLongProbe& probe, const Rotation& R, float scale) {
-  cv::Mat img(probe.height(), probe.width(), CV_32FC3);
-  for (int r = 0; r < img.rows; ++r)
-    for (int c = 0; c < img.cols; ++c)
-      img.at<cv::Vec3f>(r, c) = scale * probe.Bilinear(R(probe.DirectionAt(c + 0.5, r + 0.5)));
-  return LatLongProbe(img);
+  return LatLongProbe(probe.Rotated(R).rgb() * scale);
 }
 
 double DegreesBetween(const Rotation& a, const Rotation& b) { return (a * b.Inverse()).Angle() * 180 / kPi; }

@@ -75,6 +75,8 @@ check calib-card-out 1 "padded.exr: reference card region 100,50,40,4 is empty o
 check calib-card-both 1 "give --scale or --card, not both" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 --scale 2 -o "$T/pc3.exr"
 check calib-card-away 1 "sends no light onto the reference card" -- "$B" calib --sun 0,0,-1 --card "$T/padded.exr" --card-region 50,50,4,4 -o "$T/pc3.exr"
 [ ! -e "$T/pc3.exr" ] && [ ! -e "$T/pc3.json" ] && pass=$((pass+1)) || { echo "FAIL calib wrote outputs on a bad card"; fail=$((fail+1)); }
+check calib-ball-circle 1 "bad --ball-circle" -- "$B" calib --probe "$PROBE" --rotate-from-ball "$T/padded.exr" --ball-circle 50,50 -o "$T/pc5.exr"
+check calib-ball-both 1 "--ball-circle is ambiguous" -- "$B" calib --probe "$T/padded.exr" --layout mirrorball --rotate-from-ball "$T/padded.exr" --ball-circle 50,50,30 -o "$T/pc5.exr"
 check calib-scale-rgb 0 "scale 1 2 3" -- "$B" calib --probe "$PROBE" --scale 1,2,3 -o "$T/pc4.exr"
 check calib-scale-bad 1 "--scale must be positive" -- "$B" calib --probe "$PROBE" --scale 1,0,3 -o "$T/pc4.exr"
 check remap-nocalib 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" -o "$T/obs-nocalib.bsobs"

@@ -3,7 +3,8 @@
 # from bracketed JPEGs to the report. Asserts the sphere is found to 0.3 px,
 # the fitted BRDF relit under another probe is within 5 % of the truth (the
 # material is one of the stand-in bases here), and a second `make` rebuilds
-# nothing (every stage is a rule on files).
+# nothing (every stage is a rule on files); and the same for a capture under a
+# rotated probe whose rotation calib estimates from a mirror ball.
 set -u
 B="$1"; SRC="$2"; T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fail=0
@@ -20,5 +21,16 @@ awk -v e="$err" 'BEGIN{exit !(e != "" && e < 0.05)}' || { echo "FAIL relit error
 grep -q '| normals → sphere.json |' "$R/report.md" || { echo "FAIL no stage-time table"; fail=1; }
 again=$(run 2>&1)
 grep -q 'brdfshot' <<<"$again" && { echo "FAIL second make re-ran: $again"; fail=1; }
-[ "$fail" = 0 ] && echo "samples Makefile: centre off $off px, relit error $err"
+# Round trip of the rotation: a capture under the probe turned by (40, 10, -5)°
+# with a mirror ball shot from the camera; calib estimates the rotation from
+# the ball (BALL_FILE in capture.mk) and the fit must still relight the truth.
+run OUT="$T/rot" SYNTH="--rotate 40,10,-5 --mirror-ball 300" > "$T/rlog" 2>&1 || { cat "$T/rlog"; echo "FAIL make (rotated)"; exit 1; }
+RR="$T/rot/results/demo-red-plastic"
+grep -q -- "--rotate-from-ball" "$T/rlog" || { echo "FAIL calib did not use the ball"; fail=1; }
+ypr=$(sed -n 's/.*yaw\/pitch\/roll \[\([^]]*\)\].*/\1/p' "$RR/report.md")
+awk -v s="$ypr" 'BEGIN{n=split(s,a,","); exit !(n==3 && (a[1]-40)^2<0.25 && (a[2]-10)^2<0.25 && (a[3]+5)^2<0.25)}' ||
+  { echo "FAIL rotation from the ball '$ypr', truth 40,10,-5 (bound 0.5 deg each)"; fail=1; }
+rerr=$(grep -o 'relative RMSE \*\*[0-9.]*' "$RR/report.md" | head -1 | grep -o '[0-9.]*$')
+awk -v e="$rerr" 'BEGIN{exit !(e != "" && e < 0.05)}' || { echo "FAIL relit error with the ball's rotation '$rerr'"; fail=1; }
+[ "$fail" = 0 ] && echo "samples Makefile: centre off $off px, relit error $err; rotated capture: ball gives $ypr deg, relit error $rerr"
 exit $fail
