@@ -9,38 +9,52 @@ namespace brdfshot {
 
 std::string RenderQuality::Describe() const {
   return "theta=" + std::to_string(theta_samples) + ",phi=" + std::to_string(phi_samples) +
-         ",probe=" + std::to_string(probe_width) + ",lights=" + std::to_string(max_lights) +
+         ",probe=" + std::to_string(probe_width) + ",lights=" + std::to_string(max_lights) + "@" + std::to_string(light_grid_width) +
          ",level_step=" + std::to_string(level_step_deg) +
          ",substeps=" + std::to_string(level_substeps) +
          ",brdf_supersample=" + std::to_string(brdf_supersample);
 }
 
-std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share) {
+std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share, int grid_width) {
   std::vector<DirectionalLight> lights;
   if (max_lights <= 0) return lights;
-  struct Texel {
-    double power;
-    int c, r;
+  // Blocks of b×b texels, so that a sun counts as one light whatever the
+  // probe's resolution: on a 1024-wide probe a sun spread over four texels
+  // would otherwise leave each below the share and stay in the quadrature.
+  const int b = grid_width > 0 ? std::max(1, probe->width() / grid_width) : 1;
+  const int bw = (probe->width() + b - 1) / b, bh = (probe->height() + b - 1) / b;
+  struct Block {
+    double power = 0;
+    int index = 0;
   };
-  std::vector<Texel> texels;
+  std::vector<Block> blocks(static_cast<size_t>(bw) * bh);
   double total = 0;
   for (int r = 0; r < probe->height(); ++r)
     for (int c = 0; c < probe->width(); ++c) {
       const cv::Vec3f v = probe->Texel(c, r);
       const double p = (v[0] + v[1] + v[2]) * probe->TexelSolidAngle(r);
       total += p;
-      texels.push_back({p, c, r});
+      blocks[static_cast<size_t>(r / b) * bw + c / b].power += p;
     }
   if (total <= 0) return lights;
-  const size_t k = std::min<size_t>(max_lights, texels.size());
-  std::partial_sort(texels.begin(), texels.begin() + k, texels.end(),
-                    [](const Texel& a, const Texel& b) { return a.power > b.power; });
+  for (size_t i = 0; i < blocks.size(); ++i) blocks[i].index = static_cast<int>(i);
+  const size_t k = std::min<size_t>(max_lights, blocks.size());
+  std::partial_sort(blocks.begin(), blocks.begin() + k, blocks.end(),
+                    [](const Block& x, const Block& y) { return x.power > y.power; });
   cv::Mat rgb = probe->rgb().clone();
-  for (size_t i = 0; i < k && texels[i].power >= min_share * total; ++i) {
-    const Texel& t = texels[i];
-    const double omega = probe->TexelSolidAngle(t.r);
-    lights.push_back({probe->DirectionAt(t.c + 0.5, t.r + 0.5), probe->Texel(t.c, t.r) * omega});
-    rgb.at<cv::Vec3f>(t.r, t.c) = cv::Vec3f(0, 0, 0);
+  for (size_t i = 0; i < k && blocks[i].power >= min_share * total; ++i) {
+    // One light at the block's power centroid, carrying all of its power.
+    const int r0 = blocks[i].index / bw * b, c0 = blocks[i].index % bw * b;
+    Vec3 centroid(0, 0, 0);
+    cv::Vec3f power(0, 0, 0);
+    for (int r = r0; r < std::min(r0 + b, probe->height()); ++r)
+      for (int c = c0; c < std::min(c0 + b, probe->width()); ++c) {
+        const cv::Vec3f v = probe->Texel(c, r) * static_cast<float>(probe->TexelSolidAngle(r));
+        centroid = centroid + probe->DirectionAt(c + 0.5, r + 0.5) * (v[0] + v[1] + v[2]);
+        power += v;
+        rgb.at<cv::Vec3f>(r, c) = cv::Vec3f(0, 0, 0);
+      }
+    lights.push_back({Normalize(centroid), power});
   }
   *probe = LatLongProbe(rgb, probe->name());
   return lights;
@@ -54,9 +68,11 @@ TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLong
   TransportOperator t;
   t.grid_ = grid;
   t.quality_ = q;
-  LatLongProbe probe =
-      q.probe_width > 0 && q.probe_width < probe_in.width() ? probe_in.Resized(q.probe_width) : probe_in;
-  t.lights_ = ExtractLights(&probe, q.max_lights, q.light_share);
+  // Suns come off the probe as given, at their exact directions, before the
+  // remainder is resampled to the width the quadrature needs.
+  LatLongProbe probe = probe_in;
+  t.lights_ = ExtractLights(&probe, q.max_lights, q.light_share, q.light_grid_width);
+  if (q.probe_width > 0 && q.probe_width < probe.width()) probe = probe.Resized(q.probe_width);
   t.probe_ = std::make_shared<const PrefilteredProbe>(probe);
 
   for (int a = 0; a < q.theta_samples; ++a) {

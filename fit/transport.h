@@ -52,18 +52,23 @@ struct RenderQuality {
   int probe_width = 512;   // probe box-resampled to this width first (0 = as given)
   int max_lights = 64;     // texels split off as directional lights (0 = none)
   double light_share = 0.002;  // ...if each holds at least this share of the power
+  int light_grid_width = 512;  // ...counted in blocks of a grid this wide (0: per texel)
   double level_step_deg = 1.0;   // θ_o spacing of the levels whose table reads are computed
   int level_substeps = 8;        // pixels snap to step/substeps, M linear in between
   int brdf_supersample = 0;      // table reads per sample cell along √θ_h (0: auto, ~1 per bin)
   std::string Describe() const;
 };
 
-// Texels split off a probe as directional lights; the probe keeps the remainder.
+// Suns split off a probe as directional lights; the probe keeps the remainder.
 struct DirectionalLight {
   Vec3 direction;
   cv::Vec3f power;  // radiance × solid angle (W/m² per channel)
 };
-std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share);
+// Blocks of the probe on a `grid_width`-wide grid holding ≥ `min_share` of its
+// power (at most `max_lights`, brightest first) become one light each at their
+// power centroid; their texels are zeroed in the probe.
+std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share,
+                                            int grid_width = 0);
 
 class TransportOperator {
  public:

@@ -11,8 +11,8 @@ Eigen::MatrixXd RenderReference(const PixelGeometry& g, const LatLongProbe& prob
   // Suns are split off exactly as in TransportOperator (a dense grid converges on
   // them far too slowly); the remainder is integrated densely and unfiltered.
   LatLongProbe rest = probe;
-  const std::vector<DirectionalLight> lights = ExtractLights(&rest, RenderQuality{}.max_lights,
-                                                             RenderQuality{}.light_share);
+  const RenderQuality q;
+  const std::vector<DirectionalLight> lights = ExtractLights(&rest, q.max_lights, q.light_share, q.light_grid_width);
   const PrefilteredProbe lookup(rest);
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(g.size(), 3);
 #pragma omp parallel for schedule(dynamic, 4)

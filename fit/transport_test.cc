@@ -139,3 +139,39 @@ TEST(Transport, MatchesADenseAnalyticReferenceForEveryFamily) {
 }
 
 }  // namespace brdfshot
+
+namespace brdfshot {
+// A sun spread over a 2×2 texel block of a 1024-wide probe, each texel below
+// the light share: counted on the 512-wide grid it is one light carrying the
+// block's whole power at its centroid, and power is conserved.
+TEST(ExtractLights, ASunSplitOverTexelsIsOneLightAtItsCentroid) {
+  cv::Mat rgb(512, 1024, CV_32FC3, cv::Scalar::all(1));
+  const int r0 = 200, c0 = 600;  // an even block: one cell of the 512 grid
+  for (int r = r0; r < r0 + 2; ++r)
+    for (int c = c0; c < c0 + 2; ++c) rgb.at<cv::Vec3f>(r, c) = cv::Vec3f(660, 440, 220);
+  const LatLongProbe full(rgb);
+  auto power = [](const LatLongProbe& p) {
+    cv::Vec3d e(0, 0, 0);
+    for (int r = 0; r < p.height(); ++r)
+      for (int c = 0; c < p.width(); ++c) e += cv::Vec3d(p.Texel(c, r)) * p.TexelSolidAngle(r);
+    return e;
+  };
+  const cv::Vec3d total = power(full);
+  const double texel_share = 1320 * full.TexelSolidAngle(r0) / (total[0] + total[1] + total[2]);
+  ASSERT_LT(texel_share, 0.002);  // per texel the sun would stay in the quadrature
+  ASSERT_GT(4 * texel_share, 0.002);
+
+  LatLongProbe per_texel = full;
+  EXPECT_TRUE(ExtractLights(&per_texel, 64, 0.002, 0).empty());
+
+  LatLongProbe rest = full;
+  const std::vector<DirectionalLight> lights = ExtractLights(&rest, 64, 0.002, 512);
+  ASSERT_EQ(lights.size(), 1u);
+  // Centroid of four equal texels: the shared corner, up to the rows' solid-angle difference.
+  const Vec3 corner = full.DirectionAt(c0 + 1, r0 + 1);
+  EXPECT_LT(std::acos(std::min(1.0, Dot(lights[0].direction, corner))) * 180 / kPi, 0.01);
+  const cv::Vec3d after = power(rest);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(after[c] + lights[0].power[c], total[c], 1e-6 * total[c]);
+  EXPECT_EQ(rest.Texel(c0, r0), cv::Vec3f(0, 0, 0));
+}
+}  // namespace brdfshot
