@@ -56,7 +56,7 @@ int CalibMain(int argc, char** argv) {
   std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar, sun, sun_radiance = "1,1,1";
   std::string rotate_from_ball, ball_circle;
   double sun_deg = 1.0;
-  std::string scale_arg, card_photo, card_region, card_normal = "0,0,1";
+  std::string scale_arg, card_photo, card_region, card_normal = "0,0,1", photo_merge, probe_merge;
   double card_albedo = 0.18;
   int width = 0;
   MirrorBallOptions ball;
@@ -71,6 +71,8 @@ int CalibMain(int argc, char** argv) {
       ("rotate", po::value(&rotate)->default_value(rotate), "camera → probe rotation as yaw,pitch,roll degrees (util/rotation.h)")
       ("rotate-from-ball", po::value(&rotate_from_ball), "instead of --rotate: estimate the rotation from this HDR photo of a mirror ball taken from the camera's position (calib/probe_alignment.h)")
       ("scale", po::value(&scale_arg), "photo radiance per probe radiance: s or R,G,B (default 1: probe and photo merged with one camera and response)")
+      ("photo-merge", po::value(&photo_merge), "instead of --scale: the scale from exposure metadata, with --probe-merge: the sample photo's merge sidecar (from 'brdfshot merge')")
+      ("probe-merge", po::value(&probe_merge), "the probe's merge sidecar (same camera)")
       ("card", po::value(&card_photo), "instead of --scale: measure it on a reference card in this linear photo (the merged HDR of the sample's shot)")
       ("card-region", po::value(&card_region), "--card's pixels x,y,w,h")
       ("card-albedo", po::value(&card_albedo)->default_value(card_albedo), "--card's diffuse reflectance (grey card 0.18)")
@@ -94,7 +96,9 @@ int CalibMain(int argc, char** argv) {
     for (int c = 0; c < 3; ++c) scale[c] = v[one ? 0 : c];
     if (!(scale[0] > 0 && scale[1] > 0 && scale[2] > 0)) throw Error("--scale must be positive");
   }
-  if (!card_photo.empty() && !scale_arg.empty()) throw Error("calib: give --scale or --card, not both");
+  if (photo_merge.empty() != probe_merge.empty()) throw Error("calib: --photo-merge and --probe-merge go together");
+  if (int(!scale_arg.empty()) + int(!card_photo.empty()) + int(!photo_merge.empty()) > 1)
+    throw Error("calib: give one of --scale, --card and --photo-merge/--probe-merge, not both");
   if (card_photo.empty() != card_region.empty()) throw Error("calib: --card and --card-region go together");
   if (!rotate_from_ball.empty() && rotate != "0,0,0") throw Error("calib: give --rotate or --rotate-from-ball, not both");
   if (!ball_circle.empty() && !rotate_from_ball.empty() && layout == "mirrorball")
@@ -157,6 +161,16 @@ int CalibMain(int argc, char** argv) {
     if (rs.spread > 0.1)
       std::fprintf(stderr, "warning: %s: the card region varies by %.0f %% (std/mean): is it all card, evenly lit and flat?\n",
                    card_photo.c_str(), 100 * rs.spread);
+  }
+  if (!photo_merge.empty()) {
+    const RadiometricScale rs =
+        ScaleFromMergeSidecars(ReadJsonFile(photo_merge), photo_merge, ReadJsonFile(probe_merge), probe_merge);
+    scale = rs.scale;
+    j["scale_from_merges"] = {{"photo", photo_merge}, {"probe", probe_merge}, {"response_ratio_spread", rs.spread}};
+    if (rs.spread > 0.05)
+      std::fprintf(stderr, "warning: %s, %s: the two response curves differ in shape by %.0f %% over the mid codes; "
+                           "merge the photo with the probe's --response, or use --card\n",
+                   photo_merge.c_str(), probe_merge.c_str(), 100 * rs.spread);
   }
   WriteExr(out, probe.rgb());
   j["probe"] = out;

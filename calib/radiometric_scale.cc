@@ -1,8 +1,12 @@
 #include "calib/radiometric_scale.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <string>
 
+#include "capture/response.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -61,6 +65,79 @@ RadiometricScale ScaleFromReferenceCard(const cv::Mat& photo, const ReferenceCar
     s.predicted[k] = card.albedo / kPi * e[k];
     s.scale[k] = s.measured[k] / s.predicted[k];
   }
+  return s;
+}
+
+namespace {
+struct MergeSidecar {
+  bool raw = false;
+  std::string camera;
+  cv::Vec3d wb{1, 1, 1};
+  ResponseCurve response;
+};
+
+MergeSidecar ReadMergeSidecar(const nlohmann::json& j, const std::string& source) {
+  MergeSidecar m;
+  try {
+    if (j.at("format") != "brdfshot-merge-1") throw FileError(source, "not a brdfshot merge sidecar");
+    m.raw = j.at("raw");
+    m.camera = j.value("camera", "");
+    const nlohmann::json& frames = j.at("frames");
+    if (frames.empty()) throw FileError(source, "lists no frames");
+    if (m.raw) {
+      const nlohmann::json& wb = frames.at(0).at("wb");
+      for (int c = 0; c < 3; ++c) m.wb[c] = wb.at(c);
+      for (const nlohmann::json& f : frames)
+        for (int c = 0; c < 3; ++c)
+          if (f.at("wb").at(c).get<double>() != m.wb[c])
+            throw FileError(source, "frames of one bracket with different white balance");
+      if (!(m.wb[0] > 0 && m.wb[1] > 0 && m.wb[2] > 0)) throw FileError(source, "white balance must be positive");
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(source, std::string("incomplete merge sidecar: ") + e.what());
+  }
+  m.response = ResponseCurve::FromJson(j.at("response"), source);
+  return m;
+}
+}  // namespace
+
+RadiometricScale ScaleFromMergeSidecars(const nlohmann::json& photo_json, const std::string& photo_source,
+                                        const nlohmann::json& probe_json, const std::string& probe_source) {
+  const MergeSidecar photo = ReadMergeSidecar(photo_json, photo_source);
+  const MergeSidecar probe = ReadMergeSidecar(probe_json, probe_source);
+  if (!photo.camera.empty() && !probe.camera.empty() && photo.camera != probe.camera)
+    throw FileError(photo_source, "is from camera '" + photo.camera + "', " + probe_source + " from '" +
+                                      probe.camera + "': exposure metadata cannot relate two cameras' "
+                                      "sensitivities; measure the scale on a reference card (--card)");
+  if (photo.raw != probe.raw)
+    throw FileError(photo_source, std::string("is ") + (photo.raw ? "RAW" : "developed") + ", " + probe_source +
+                                      " is " + (probe.raw ? "RAW" : "developed") +
+                                      ": their processing differs; measure the scale on a reference card (--card)");
+  RadiometricScale s;
+  if (photo.raw) {
+    for (int c = 0; c < 3; ++c) s.scale[c] = photo.wb[c] / probe.wb[c];
+    return s;
+  }
+  if (photo.response.levels != probe.response.levels)
+    throw FileError(photo_source, "has " + std::to_string(photo.response.levels) + " code levels, " + probe_source +
+                                      " " + std::to_string(probe.response.levels));
+  // Ratio of the curves over the middle 60 % of the codes, where both are
+  // well constrained by their brackets; the median per channel.
+  const int lo = photo.response.levels / 5, hi = photo.response.levels * 4 / 5;
+  const int step = std::max(1, (hi - lo) / 256);
+  double rmin = std::numeric_limits<double>::infinity(), rmax = 0;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> ratio;
+    for (int z = lo; z <= hi; z += step) {
+      const double a = photo.response.Linear(c, z), b = probe.response.Linear(c, z);
+      if (a > 0 && b > 0) ratio.push_back(a / b);
+    }
+    if (ratio.empty()) throw FileError(photo_source, "response curve has no positive mid codes");
+    std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+    s.scale[c] = ratio[ratio.size() / 2];
+    for (double r : ratio) rmin = std::min(rmin, r / s.scale[c]), rmax = std::max(rmax, r / s.scale[c]);
+  }
+  s.spread = rmax / rmin - 1;
   return s;
 }
 

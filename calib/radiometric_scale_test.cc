@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "calib/sun_probe.h"
+#include "capture/response.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -108,6 +109,78 @@ TEST(RadiometricScale, BadCardsAreNamedErrors) {
   // Card facing away from the only light: the camera looks along the sun.
   EXPECT_NE(message({region}, photo, Rotation::FromYawPitchRoll(180, 0, 0)).find("no light"), std::string::npos);
   EXPECT_NE(message({region, 0}, photo).find("albedo"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace brdfshot
+
+namespace brdfshot {
+namespace {
+
+nlohmann::json MergeSidecarJson(bool raw, const std::string& camera, const ResponseCurve& response,
+                                std::array<double, 3> wb = {1, 1, 1}) {
+  nlohmann::json frames = nlohmann::json::array();
+  for (int k = 0; k < 3; ++k) frames.push_back({{"file", "f" + std::to_string(k)}, {"wb", wb}});
+  return {{"format", "brdfshot-merge-1"}, {"raw", raw}, {"camera", camera}, {"frames", frames},
+          {"response", response.ToJson()}};
+}
+
+ResponseCurve Gamma(double gamma, std::array<double, 3> gain) {
+  ResponseCurve r;
+  r.kind = "debevec";
+  for (int c = 0; c < 3; ++c)
+    for (int z = 0; z < 256; ++z) r.g[c].push_back(gamma * std::log(std::max(z, 1) / 255.0) + std::log(gain[c]));
+  return r;
+}
+
+TEST(ScaleFromMergeSidecars, RawIsTheRatioOfTheWhiteBalances) {
+  const ResponseCurve lin = ResponseCurve::Linear16();
+  const RadiometricScale s = ScaleFromMergeSidecars(MergeSidecarJson(true, "Kodak DCS", lin, {2.0, 1.0, 1.5}), "p.json",
+                                                    MergeSidecarJson(true, "Kodak DCS", lin, {1.6, 1.0, 2.0}), "q.json");
+  EXPECT_DOUBLE_EQ(s.scale[0], 1.25);
+  EXPECT_DOUBLE_EQ(s.scale[1], 1.0);
+  EXPECT_DOUBLE_EQ(s.scale[2], 0.75);
+}
+
+TEST(ScaleFromMergeSidecars, DevelopedFramesGiveTheRatioOfTheResponses) {
+  // A shared response (what the Makefile does): exactly 1.
+  const ResponseCurve r = Gamma(2.2, {1, 1, 1});
+  const RadiometricScale same =
+      ScaleFromMergeSidecars(MergeSidecarJson(false, "cam", r), "p.json", MergeSidecarJson(false, "cam", r), "q.json");
+  for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(same.scale[c], 1);
+  EXPECT_DOUBLE_EQ(same.spread, 0);
+  // Curves recovered separately, normalised differently per channel: their gains.
+  const RadiometricScale gains = ScaleFromMergeSidecars(MergeSidecarJson(false, "cam", Gamma(2.2, {2, 1, 0.5})), "p.json",
+                                                        MergeSidecarJson(false, "cam", r), "q.json");
+  EXPECT_NEAR(gains.scale[0], 2, 1e-9);
+  EXPECT_NEAR(gains.scale[1], 1, 1e-9);
+  EXPECT_NEAR(gains.scale[2], 0.5, 1e-9);
+  EXPECT_LT(gains.spread, 1e-9);
+  // Curves of different shape: the spread says so.
+  const RadiometricScale shape = ScaleFromMergeSidecars(MergeSidecarJson(false, "cam", Gamma(2.0, {1, 1, 1})), "p.json",
+                                                        MergeSidecarJson(false, "cam", r), "q.json");
+  EXPECT_GT(shape.spread, 0.1);
+}
+
+TEST(ScaleFromMergeSidecars, WhatMetadataCannotRelateIsANamedError) {
+  const ResponseCurve r = Gamma(2.2, {1, 1, 1});
+  auto message = [](const nlohmann::json& a, const nlohmann::json& b) -> std::string {
+    try {
+      ScaleFromMergeSidecars(a, "p.json", b, "q.json");
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(message(MergeSidecarJson(false, "Canon", r), MergeSidecarJson(false, "Nikon", r)).find("p.json: is from camera 'Canon'"),
+            std::string::npos);
+  EXPECT_NE(message(MergeSidecarJson(true, "c", ResponseCurve::Linear16()), MergeSidecarJson(false, "c", r)).find("is RAW"),
+            std::string::npos);
+  EXPECT_NE(message({{"format", "brdfshot-calib-1"}}, MergeSidecarJson(false, "c", r)).find("p.json: not a brdfshot merge"),
+            std::string::npos);
+  nlohmann::json no_frames = MergeSidecarJson(false, "c", r);
+  no_frames.erase("frames");
+  EXPECT_NE(message(MergeSidecarJson(false, "c", r), no_frames).find("q.json: incomplete merge sidecar"), std::string::npos);
 }
 
 }  // namespace

@@ -72,11 +72,15 @@ s2=$("$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 
 awk -v a="$s1" -v b="$s2" 'BEGIN{exit !(a > 0 && b / a > 1.999 && b / a < 2.001)}' && pass=$((pass+1)) || { echo "FAIL card scale $s1 vs half albedo $s2"; fail=$((fail+1)); }
 check remap-card 0 "divided by scale $s1" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" --calib "$T/pc1.json" -o "$T/obs-card.bsobs"
 check calib-card-out 1 "padded.exr: reference card region 100,50,40,4 is empty or leaves the 104x104 photo" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 100,50,40,4 -o "$T/pc3.exr"
-check calib-card-both 1 "give --scale or --card, not both" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 --scale 2 -o "$T/pc3.exr"
+check calib-card-both 1 "give one of --scale, --card and --photo-merge/--probe-merge" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 --scale 2 -o "$T/pc3.exr"
 check calib-card-away 1 "sends no light onto the reference card" -- "$B" calib --sun 0,0,-1 --card "$T/padded.exr" --card-region 50,50,4,4 -o "$T/pc3.exr"
 [ ! -e "$T/pc3.exr" ] && [ ! -e "$T/pc3.json" ] && pass=$((pass+1)) || { echo "FAIL calib wrote outputs on a bad card"; fail=$((fail+1)); }
 check calib-ball-circle 1 "bad --ball-circle" -- "$B" calib --probe "$PROBE" --rotate-from-ball "$T/padded.exr" --ball-circle 50,50 -o "$T/pc5.exr"
 check calib-ball-both 1 "--ball-circle is ambiguous" -- "$B" calib --probe "$T/padded.exr" --layout mirrorball --rotate-from-ball "$T/padded.exr" --ball-circle 50,50,30 -o "$T/pc5.exr"
+# From exposure metadata: one merge against itself is scale 1; half a pair is an error.
+check calib-merges 0 "scale 1 1 1" -- "$B" calib --probe "$PROBE" --photo-merge "$T/merged.json" --probe-merge "$T/merged.json" -o "$T/pc6.exr"
+check calib-merges-half 1 "--photo-merge and --probe-merge go together" -- "$B" calib --probe "$PROBE" --probe-merge "$T/merged.json" -o "$T/pc6.exr"
+check calib-merges-notmerge 1 "pc6.json: not a brdfshot merge sidecar" -- "$B" calib --probe "$PROBE" --photo-merge "$T/pc6.json" --probe-merge "$T/merged.json" -o "$T/pc7.exr"
 check calib-scale-rgb 0 "scale 1 2 3" -- "$B" calib --probe "$PROBE" --scale 1,2,3 -o "$T/pc4.exr"
 check calib-scale-bad 1 "--scale must be positive" -- "$B" calib --probe "$PROBE" --scale 1,0,3 -o "$T/pc4.exr"
 check remap-nocalib 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" -o "$T/obs-nocalib.bsobs"
