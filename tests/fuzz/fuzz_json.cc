@@ -1,5 +1,7 @@
-// The JSON files the stages read: class model, sphere file, response curve —
-// through the same file reader the commands use (ReadJsonFile).
+// The JSON files the stages read: class model, sphere file, response curve,
+// merge sidecar (calib's scale from exposure metadata) — through the same file
+// reader the commands use (ReadJsonFile).
+#include "calib/radiometric_scale.h"
 #include "capture/response.h"
 #include "fit/class_model.h"
 #include "normals/sphere_view.h"
@@ -25,6 +27,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   try {
     brdfshot::ResponseCurve::FromJson(j, path);
+  } catch (const brdfshot::Error&) {
+  }
+  try {
+    brdfshot::ScaleFromMergeSidecars(j, path, j, path);
   } catch (const brdfshot::Error&) {
   }
   return 0;

@@ -23,6 +23,7 @@ if [ ! -d "$S" ]; then
     --size 64x48 --radius 12 --probe-shot-width 64 -o "$S/cap" >/dev/null
   cp "$S/cap/photo/IMG_01.jpg" "$S/exif/"; cp "$S/cap/truth/sphere.json" "$S/json/"
   $B merge "$S/cap/probe" --save-response "$S/json/response.json" -o "$S/cap/p.exr" >/dev/null 2>&1
+  cp "$S/cap/p.json" "$S/json/merge.json"
   $B calib --probe $A/envmaps/studio_256.exr --width 16 -o "$S/cap/small.exr" >/dev/null
   printf '\000' | cat - "$S/cap/small.exr" > "$S/probe/small.exr.seed"
   $B remap --photo "$S/cap/truth/photo.exr" --sphere "$S/cap/truth/sphere.json" -o "$S/observations/o.bsobs" >/dev/null
