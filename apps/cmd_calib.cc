@@ -1,7 +1,8 @@
 // brdfshot calib: the light probe in the pipeline's lat-long frame and its
 // relation to the camera: layout conversion (lat-long, angular map, mirror
 // ball), rotation camera → probe, radiometric scale photo units per probe unit
-// (given, or measured on a reference card in the photo).
+// (given, from the two merges' exposure metadata, or measured on a reference
+// card in the photo).
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -83,7 +84,7 @@ int CalibMain(int argc, char** argv) {
       ("ball-camera-hole", po::value(&ball.camera_hole_deg)->default_value(ball.camera_hole_deg), "ball normals within this (deg) of the camera show the camera: filled in")
       ("sidecar", po::value(&sidecar), "calibration JSON (default: <out>.json)")
       ("out,o", po::value(&out)->default_value(out), "lat-long probe (EXR)");
-  if (!ParseOptions("calib", "(--probe P [--layout L] | --sun x,y,z) [--rotate y,p,r] [--scale s | --card PHOTO --card-region x,y,w,h] [options]", desc,
+  if (!ParseOptions("calib", "(--probe P [--layout L] | --sun x,y,z) [--rotate y,p,r | --rotate-from-ball B] [--scale s | --photo-merge M --probe-merge M | --card PHOTO --card-region x,y,w,h] [options]", desc,
                     argc, argv))
     return 0;
   if (probe_path.empty() == sun.empty()) throw Error("calib: give exactly one of --probe and --sun");
@@ -98,7 +99,7 @@ int CalibMain(int argc, char** argv) {
   }
   if (photo_merge.empty() != probe_merge.empty()) throw Error("calib: --photo-merge and --probe-merge go together");
   if (int(!scale_arg.empty()) + int(!card_photo.empty()) + int(!photo_merge.empty()) > 1)
-    throw Error("calib: give one of --scale, --card and --photo-merge/--probe-merge, not both");
+    throw Error("calib: give at most one of --scale, --card and --photo-merge/--probe-merge");
   if (card_photo.empty() != card_region.empty()) throw Error("calib: --card and --card-region go together");
   if (!rotate_from_ball.empty() && rotate != "0,0,0") throw Error("calib: give --rotate or --rotate-from-ball, not both");
   if (!ball_circle.empty() && !rotate_from_ball.empty() && layout == "mirrorball")

@@ -99,6 +99,7 @@ int SynthCaptureMain(int argc, char** argv) {
   if (format_name != "jpg" && format_name != "png16")
     throw Error("unknown --format '" + format_name + "': expected jpg or png16");
   format.jpeg = format_name == "jpg";
+  if (mirror_ball < 0 || mirror_ball == 1) throw Error("--mirror-ball must be 0 (none) or a size in pixels");
   if (!format.jpeg) camera.raw_bits = 14;
   const cv::Size image = ParseImageSize(size, "--size", 32);
   shot.width = image.width;
@@ -131,7 +132,8 @@ int SynthCaptureMain(int argc, char** argv) {
   std::string ball_circle;  // where the ball is in ball.exr (the user marks it on a real one)
   if (mirror_ball > 0) {
     // The lighting as the camera sees it, L_cam(d) = L_probe(R d), in a ball
-    // with a black border so the detector sees its whole silhouette.
+    // framed by a black border. Its circle goes into capture.mk, as a user
+    // would mark it: a mirror ball's rim need not stand out from its surround.
     const cv::Mat ball = RenderMirrorBall(probe.Rotated(shot.camera_to_probe), mirror_ball);
     const int pad = std::max(8, mirror_ball / 10);
     cv::Mat framed;
@@ -170,10 +172,11 @@ int SynthCaptureMain(int argc, char** argv) {
       << "TRUTH        = " << truth_args << "\n";
   });
   std::printf("synthetic capture of %s under %s: sphere r %.1f px at (%.1f, %.1f) in %dx%d, f %.0f px\n"
-              "photo: %zu frames (%s, %g stops), probe: %zu frames of %dx%d; %.2f s\nwrote %s/{capture.mk, photo/, probe/, truth/}\n",
+              "photo: %zu frames (%s, %g stops), probe: %zu frames of %dx%d; %.2f s\nwrote %s/{capture.mk, photo/, probe/, truth/%s}\n",
               label.c_str(), probe.name().c_str(), photo.view.circle.r, photo.view.circle.cx, photo.view.circle.cy,
               shot.width, shot.height, shot.focal_px, photo_frames.size(), format_name.c_str(), stops,
-              probe_frames.size(), pano.width(), pano.height(), sw.Seconds(), out.c_str());
+              probe_frames.size(), pano.width(), pano.height(), sw.Seconds(), out.c_str(),
+              mirror_ball > 0 ? ", ball.exr" : "");
   return 0;
 }
 
