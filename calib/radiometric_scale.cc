@@ -93,10 +93,10 @@ MergeSidecar ReadMergeSidecar(const nlohmann::json& j, const std::string& source
             throw FileError(source, "frames of one bracket with different white balance");
       if (!(m.wb[0] > 0 && m.wb[1] > 0 && m.wb[2] > 0)) throw FileError(source, "white balance must be positive");
     }
+    m.response = ResponseCurve::FromJson(j.at("response"), source);
   } catch (const nlohmann::json::exception& e) {
     throw FileError(source, std::string("incomplete merge sidecar: ") + e.what());
   }
-  m.response = ResponseCurve::FromJson(j.at("response"), source);
   return m;
 }
 }  // namespace
