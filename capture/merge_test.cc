@@ -227,4 +227,22 @@ TEST(Raw, RealRawFileReadsThroughLibrawWithItsLevels) {
   EXPECT_THROW(ReadRaw((TempDir() / "none.kdc").string()), Error);
 }
 
+// The reader reuses one LibRaw per thread: reading with a white balance, or a
+// file that fails, must not change the next read of the same file.
+TEST(Raw, ReadsAreIndependentOfThePreviousRead) {
+  const std::string f = DataPath("real/raw/RAW_KODAK_DC50.KDC");
+  if (f.empty() || !fs::exists(f)) GTEST_SKIP() << "RAW sample not found";
+  const RawFrame first = ReadRaw(f);
+  const std::array<double, 3> wb{2.0, 1.0, 1.5};
+  const RawFrame balanced = ReadRaw(f, &wb);
+  EXPECT_EQ(balanced.wb[0], 2.0);
+  EXPECT_GT(cv::norm(balanced.rgb16, first.rgb16, cv::NORM_INF), 0);  // the multipliers did act
+  EXPECT_THROW(ReadRaw((TempDir() / "none.kdc").string()), Error);
+  const RawFrame again = ReadRaw(f);
+  EXPECT_EQ(cv::norm(again.rgb16, first.rgb16, cv::NORM_INF), 0);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(again.wb[c], first.wb[c]);
+  EXPECT_EQ(again.black, first.black);
+  EXPECT_EQ(again.white, first.white);
+}
+
 }  // namespace brdfshot
