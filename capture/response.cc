@@ -6,6 +6,7 @@
 #include <random>
 
 #include "util/check.h"
+#include "util/json_int.h"
 
 namespace brdfshot {
 
@@ -25,7 +26,7 @@ ResponseCurve ResponseCurve::FromJson(const nlohmann::json& j, const std::string
   try {
     if (j.at("format") != "brdfshot-response-1") throw FileError(source, "not a brdfshot response curve");
     r.kind = j.at("kind");
-    r.levels = j.at("levels");
+    r.levels = static_cast<int>(JsonInt(j, "levels", 2, 65536, source));
     if (r.kind == "debevec") {
       for (int c = 0; c < 3; ++c) r.g[c] = j.at("ln_exposure").at(c).get<std::vector<double>>();
       for (int c = 0; c < 3; ++c)

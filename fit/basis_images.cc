@@ -5,6 +5,7 @@
 
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/json_int.h"
 #include "util/tagged_file.h"
 
 namespace brdfshot {
@@ -47,10 +48,10 @@ BasisImages BasisImages::Parse(const std::string& bytes, const std::string& name
   b.header = std::move(t.header);
   uint64_t P, n;
   try {
-    P = b.header.at("pixels").get<uint64_t>();
-    n = b.header.at("num_bases").get<uint64_t>();
-    b.geometry.width = b.header.at("width");
-    b.geometry.height = b.header.at("height");
+    P = static_cast<uint64_t>(JsonInt(b.header, "pixels", 0, 1 << 28, name));
+    n = static_cast<uint64_t>(JsonInt(b.header, "num_bases", 0, 1 << 20, name));
+    b.geometry.width = static_cast<int>(JsonInt(b.header, "width", 1, 1 << 20, name));
+    b.geometry.height = static_cast<int>(JsonInt(b.header, "height", 1, 1 << 20, name));
     if (b.header.at("bases").size() != n) throw FileError(name, "basis names do not match num_bases");
   } catch (const nlohmann::json::exception& e) {
     throw FileError(name, std::string("incomplete header: ") + e.what());

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "util/check.h"
+#include "util/json_int.h"
 
 namespace brdfshot {
 
@@ -209,10 +210,11 @@ ClassModel ClassModel::FromJson(const nlohmann::json& j, const std::string& sour
   try {
     if (j.at("format") != "brdfshot-class-model-1") throw Error("unknown format");
     ClassModel m;
-    const int d = j.at("dims"), K = j.at("classes");
+    const int d = static_cast<int>(JsonInt(j, "dims", 0, 1 << 20, source)),
+              K = static_cast<int>(JsonInt(j, "classes", 0, 1 << 20, source));
     m.paper_mstep = j.at("paper_mstep");
     m.log_likelihood = j.at("log_likelihood");
-    m.iterations = j.at("iterations");
+    m.iterations = static_cast<int>(JsonInt(j, "iterations", 0, 1 << 30, source));
     m.converged = j.at("converged");
     m.singular_values = ToVec(j.at("singular_values"));
     m.mix = ToVec(j.at("mix"));
@@ -227,8 +229,7 @@ ClassModel ClassModel::FromJson(const nlohmann::json& j, const std::string& sour
     m.coords.resize(d, bases.size());
     m.resp.resize(bases.size(), K);
     for (size_t i = 0; i < bases.size(); ++i) {
-      const int label = bases[i].at("class");
-      if (label < 0 || label >= K) throw Error("class index out of range");
+      const int label = static_cast<int>(JsonInt(bases[i], "class", 0, K - 1, source));
       m.label.push_back(label);
       const Eigen::VectorXd c = ToVec(bases[i].at("coords")), r = ToVec(bases[i].at("resp"));
       if (c.size() != d || r.size() != K) throw Error("bad basis entry");

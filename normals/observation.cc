@@ -5,6 +5,7 @@
 
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/json_int.h"
 #include "util/tagged_file.h"
 
 namespace brdfshot {
@@ -45,9 +46,9 @@ Observations Observations::Parse(const std::string& bytes, const std::string& na
   uint64_t P;
   try {
     if (o.header.at("format") != "brdfshot-observations-1") throw FileError(name, "unknown observation format");
-    P = o.header.at("pixels").get<uint64_t>();
-    o.geometry.width = o.header.at("width");
-    o.geometry.height = o.header.at("height");
+    P = static_cast<uint64_t>(JsonInt(o.header, "pixels", 0, 1 << 28, name));
+    o.geometry.width = static_cast<int>(JsonInt(o.header, "width", 1, 1 << 20, name));
+    o.geometry.height = static_cast<int>(JsonInt(o.header, "height", 1, 1 << 20, name));
   } catch (const nlohmann::json::exception& e) {
     throw FileError(name, std::string("incomplete header: ") + e.what());
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "util/check.h"
+#include "util/json_int.h"
 
 namespace brdfshot {
 
@@ -64,8 +65,8 @@ SphereView SphereView::FromJson(const nlohmann::json& j, const std::string& sour
   SphereView v;
   try {
     if (j.at("format") != "brdfshot-sphere-1") throw FileError(source, "not a brdfshot sphere file");
-    v.width = j.at("width");
-    v.height = j.at("height");
+    v.width = static_cast<int>(JsonInt(j, "width", 1, 1 << 20, source));
+    v.height = static_cast<int>(JsonInt(j, "height", 1, 1 << 20, source));
     v.circle = {j.at("circle").at("cx"), j.at("circle").at("cy"), j.at("circle").at("r")};
     const std::string camera = j.at("camera");
     if (camera != "orthographic" && camera != "perspective")

@@ -85,6 +85,9 @@ check calib-scale-rgb 0 "scale 1 2 3" -- "$B" calib --probe "$PROBE" --scale 1,2
 check calib-scale-bad 1 "--scale must be positive" -- "$B" calib --probe "$PROBE" --scale 1,0,3 -o "$T/pc4.exr"
 check remap-nocalib 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" -o "$T/obs-nocalib.bsobs"
 check remap-size 1 "sphere.json: is for a 104x104 photo" -- "$B" remap --photo "$T/photo.exr" --sphere "$T/sphere.json" -o "$T/obs2.bsobs"
+# A number far beyond int where a size belongs (fuzz_json found it as UB): a named error.
+sed 's/"width": [0-9]*/"width": 6444444444444444444444444444444444444444/' "$T/sphere.json" > "$T/wide.json"
+check remap-hugewidth 1 "wide.json: 'width' must be an integer from 1 to 1048576" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/wide.json" -o "$T/obs3.bsobs"
 check remap-notjson 1 "bad.binary: not JSON" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/bad.binary" -o "$T/obs2.bsobs"
 check basis-obs 0 "wrote" -- "$B" basis $DB --probe "$T/probe.exr" --obs "$T/obs.bsobs" -o "$T/bo.bsbi"
 check fit-obs 0 "chosen class" -- "$B" fit $DB --basis "$T/bo.bsbi" --obs "$T/obs.bsobs" --classes "$T/c.json" --preview-probes "$PROBE" -o "$T/fito"
