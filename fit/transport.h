@@ -48,7 +48,7 @@ namespace brdfshot {
 
 struct RenderQuality {
   int theta_samples = 24;  // along √θ_h
-  int phi_samples = 40;    // along φ_h, per ring (at least: rings past √θ_h ≈ ½ get 4·theta·√θ_h)
+  int phi_samples = 40;    // along φ_h, per ring: at least this, or 4·theta·√θ_h where that is more
   int probe_width = 512;   // probe box-resampled to this width first (0 = as given)
   int max_lights = 64;     // texels split off as directional lights (0 = none)
   double light_share = 0.002;  // ...if each holds at least this share of the power
