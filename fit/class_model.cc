@@ -210,15 +210,15 @@ ClassModel ClassModel::FromJson(const nlohmann::json& j, const std::string& sour
   try {
     if (j.at("format") != "brdfshot-class-model-1") throw Error("unknown format");
     ClassModel m;
-    const int d = static_cast<int>(JsonInt(j, "dims", 0, 1 << 20, source)),
-              K = static_cast<int>(JsonInt(j, "classes", 0, 1 << 20, source));
+    const int d = static_cast<int>(JsonInt(j, "dims", 1, 1 << 20, source)),
+              K = static_cast<int>(JsonInt(j, "classes", 1, 1 << 20, source));
     m.paper_mstep = j.at("paper_mstep");
     m.log_likelihood = j.at("log_likelihood");
     m.iterations = static_cast<int>(JsonInt(j, "iterations", 0, 1 << 30, source));
     m.converged = j.at("converged");
     m.singular_values = ToVec(j.at("singular_values"));
     m.mix = ToVec(j.at("mix"));
-    if (d < 1 || K < 1 || m.mix.size() != K) throw Error("inconsistent dims/classes");
+    if (m.mix.size() != K) throw Error("inconsistent dims/classes");
     for (int k = 0; k < K; ++k) {
       m.means.push_back(ToVec(j.at("means").at(k)));
       const Eigen::VectorXd c = ToVec(j.at("covs").at(k));

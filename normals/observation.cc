@@ -52,9 +52,6 @@ Observations Observations::Parse(const std::string& bytes, const std::string& na
   } catch (const nlohmann::json::exception& e) {
     throw FileError(name, std::string("incomplete header: ") + e.what());
   }
-  if (P > (1ull << 28) || o.geometry.width <= 0 || o.geometry.height <= 0 || o.geometry.width > (1 << 20) ||
-      o.geometry.height > (1 << 20))
-    throw FileError(name, "absurd size in header");
   if (P == 0) throw FileError(name, "holds no pixels");
   if (bytes.size() != t.body_offset + P * kRecord)
     throw FileError(name, "size " + std::to_string(bytes.size()) + " does not match its " + std::to_string(P) +
