@@ -130,9 +130,11 @@ int BenchDetectMain(int argc, char** argv) {
           const SphereDetection d = DetectSphere(img, o);
           ours.seconds.push_back(Seconds(t0));
           if (verbose)
-            std::fprintf(stderr, "seed %d: truth (%.1f, %.1f, r %.1f), ours (%.1f, %.1f, r %.1f) rms %.2f px %d/%d inliers\n",
+            std::fprintf(stderr, "seed %d: truth (%.1f, %.1f, r %.1f), ours (%.1f, %.1f, r %.1f) rms %.2f px %d/%d inliers, "
+                         "centre off %.3f px, radius off %+.3f px, blur %.2f px\n",
                          seed, truth.cx, truth.cy, truth.r, d.circle.cx, d.circle.cy, d.circle.r, d.quality.rms_px,
-                         d.quality.inliers, d.quality.points);
+                         d.quality.inliers, d.quality.points, std::hypot(d.circle.cx - truth.cx, d.circle.cy - truth.cy),
+                         d.circle.r - truth.r, d.blur_sigma);
           if (perspective) {
             ours.centre.push_back(Length(Cross(d.cone.centre_dir, cone.centre_dir)) * focal);
             ours.radius.push_back(std::abs(d.cone.half_angle - cone.half_angle) * focal);

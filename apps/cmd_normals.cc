@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/command.h"
+#include "apps/common_options.h"
 #include "normals/sphere_detect.h"
 #include "normals/sphere_view.h"
 #include "util/atomic_file.h"
@@ -21,11 +22,13 @@ int NormalsMain(int argc, char** argv) {
   std::string photo_path, out = "sphere.json", overlay;
   SphereDetectOptions o;
   double focal_35mm = 0;
+  std::string near;
   po::options_description desc("options");
   desc.add_options()
       ("photo", po::value(&photo_path)->required(), "linear HDR photo (EXR/HDR/PFM) or an 8/16-bit image")
       ("focal-px", po::value(&o.focal_px)->default_value(0), "focal length in pixels: perspective model (0: orthographic)")
       ("focal-35mm", po::value(&focal_35mm)->default_value(0), "35 mm-equivalent focal length (EXIF FocalLengthIn35mmFilm) instead of --focal-px")
+      ("near", po::value(&near), "X,Y: a pixel inside the sphere to measure, when the photo holds more than one")
       ("rays", po::value(&o.rays)->default_value(o.rays), "radial profiles for the sub-pixel rim")
       ("overlay", po::value(&overlay), "picture of the detection (default: <out>.png)")
       ("out,o", po::value(&out)->default_value(out), "sphere file (JSON) for 'brdfshot remap'");
@@ -42,6 +45,13 @@ int NormalsMain(int argc, char** argv) {
     if (bgr.empty()) throw FileError(photo_path, "cannot decode image");
     cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
     rgb.convertTo(rgb, CV_32FC3);
+  }
+  if (!near.empty()) {
+    const std::vector<double> p = ParseNumberList(near, 2, "--near", "X,Y in pixels");
+    o.near = {p[0], p[1]};
+    if (o.near.x < 0 || o.near.y < 0 || o.near.x > rgb.cols || o.near.y > rgb.rows)
+      throw Error("--near " + near + " lies outside the photo (" + std::to_string(rgb.cols) + "x" +
+                  std::to_string(rgb.rows) + ")");
   }
   if (focal_35mm > 0) o.focal_px = focal_35mm / 36.0 * std::max(rgb.cols, rgb.rows);
   Stopwatch sw;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 
 #include "normals/rim_profile.h"
@@ -29,6 +30,11 @@ cv::Mat LogLuminance(const cv::Mat& rgb) {
   cv::log(lum, lum);
   return lum;
 }
+
+namespace {
+// Rays whose rim-model misfit exceeds this many times the median are dropped.
+constexpr double kMaxRimMisfit = 4.0;
+}  // namespace
 
 std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
                                           double r_hi, int rays, double* rim_blur) {
@@ -88,11 +94,26 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
       if (where[k] >= 0 && strength[k] >= min_strength) sample.push_back(prof.ptr<float>(k)), guesses.push_back(where[k]);
     *rim_blur = EstimateRimBlur(sample, n, r_lo, step, guesses);
     const RimProfileModel model(*rim_blur);
+    std::vector<double> misfit(rays, -1.0);
     for (int k = 0; k < rays; ++k)
       if (where[k] >= 0 && strength[k] >= min_strength) {
-        const double r = model.Fit(prof.ptr<float>(k), n, r_lo, step, where[k], nullptr);
+        double rss;
+        const double r = model.Fit(prof.ptr<float>(k), n, r_lo, step, where[k], &rss);
         where[k] = std::isfinite(r) ? r : -1;
+        misfit[k] = rss / (strength[k] * strength[k]);
       }
+    // A ray whose profile the rim model fits much worse than the typical ray
+    // crosses something else near the rim (clutter behind the sphere, a
+    // highlight): its edge is biased, not just noisy, so it is dropped.
+    std::vector<double> m;
+    for (int k = 0; k < rays; ++k)
+      if (where[k] >= 0 && misfit[k] >= 0) m.push_back(misfit[k]);
+    if (!m.empty()) {
+      std::nth_element(m.begin(), m.begin() + m.size() / 2, m.end());
+      const double limit = kMaxRimMisfit * m[m.size() / 2];
+      for (int k = 0; k < rays; ++k)
+        if (misfit[k] > limit) where[k] = -1;
+    }
   }
   for (int k = 0; k < rays; ++k) {
     if (where[k] < 0 || strength[k] < min_strength) continue;
@@ -141,6 +162,138 @@ std::vector<Circle> HoughCandidates(const cv::Mat& rgb, const SphereDetectOption
   return out;
 }
 
+namespace {
+
+// A Hough circle and the fraction of radial rays that find a strong edge
+// near its rim (measured at full resolution).
+struct RankedCircle {
+  Circle circle;
+  double support = 0;
+};
+
+// Candidates whose rim is at least half closed, the best first. A sphere is
+// usually the largest closed rim in the picture: they are ranked by the rim's
+// supported length, not its fraction (a small disc is as round).
+std::vector<RankedCircle> RankByRimSupport(const cv::Mat& lin, const std::vector<Circle>& cands,
+                                           double* best_support) {
+  std::vector<RankedCircle> out;
+  *best_support = 0;
+  for (size_t i = 0; i < std::min<size_t>(cands.size(), 40); ++i) {
+    Circle c = cands[i];
+    const double band = std::max(4.0, 0.06 * c.r);
+    const std::vector<cv::Point2d> pts =
+        RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90);
+    // Hough's circle can be a band's width off (the coarser scale's are):
+    // the rim is counted around a robust fit to the edges it found, when that
+    // fit stays near the candidate.
+    try {
+      const Circle fit = FitCircleRobust(pts);
+      if (std::hypot(fit.cx - c.cx, fit.cy - c.cy) + std::abs(fit.r - c.r) < 2 * band) c = fit;
+    } catch (const Error&) {
+      // Too few or collinear edge points: counted around Hough's circle.
+    }
+    int near = 0;
+    for (const auto& p : pts) near += std::abs(std::hypot(p.x - c.cx, p.y - c.cy) - c.r) < band;
+    const double support = near / 90.0;
+    *best_support = std::max(*best_support, support);
+    if (support >= 0.5) out.push_back({c, support});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const RankedCircle& a, const RankedCircle& b) {
+    return a.support * a.circle.r > b.support * b.circle.r;
+  });
+  return out;
+}
+
+// The sub-pixel stage from a coarse circle; fills `det` (circle, cone,
+// quality, blur, edge points). Returns whether the rim fits well enough to be
+// a sphere's.
+bool RefineRim(const cv::Mat& lin, const Circle& coarse, const SphereDetectOptions& o, SphereDetection* det) {
+  det->coarse = coarse;
+  det->principal = o.principal.x >= 0 ? o.principal : cv::Point2d(lin.cols / 2.0, lin.rows / 2.0);
+  det->focal_px = o.focal_px;
+  det->perspective = o.focal_px > 0;
+  Circle c = coarse;
+  // Three passes, each in a narrower band around the last fit: wide enough
+  // first for a coarse circle 10 % off, narrow last so clutter stays out, and
+  // the rim model (rim_profile.h) only in the last.
+  for (int pass = 0; pass < 3; ++pass) {
+    // Under perspective the rim is an ellipse; around the apparent circle it
+    // strays by up to r (1 − cos θ_c), θ_c the centre's angle off axis.
+    const double ellipse = det->perspective && pass ? c.r * (1 + det->cone.centre_dir.z) : 0.0;
+    const double band = pass == 0 ? std::max(8.0, 0.12 * c.r) : pass == 1 ? std::max(6.0, 0.03 * c.r) + ellipse
+                                                                           : 14.0 + ellipse;
+    det->edge_points = RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - band), c.r + band, o.rays,
+                                        pass == 2 ? &det->blur_sigma : nullptr);
+    if (det->perspective) {
+      det->cone = FitConeRobust(det->edge_points, o.focal_px, det->principal, &det->quality);
+      c = ApparentCircle(det->cone, o.focal_px, det->principal);
+    } else {
+      c = FitCircleRobust(det->edge_points, &det->quality);
+    }
+  }
+  det->circle = c;
+  // A sphere's rim fits its circle to a fraction of a pixel along most rays;
+  // a circle found in clutter or a probe does not.
+  return det->quality.rms_px <= 1.0 && det->quality.inliers >= 0.3 * o.rays;
+}
+
+// Whether the disc is shaded like a matte sphere in soft light: its
+// luminance, averaged over cells (so sensor noise does not count), varies
+// (p90/p10 of the cells beyond `kMinShadingRatio`; a flat disc of paint does
+// not) and follows a smooth function of the normal: second-order spherical
+// harmonics leave under `kMaxShadingResidual` of the mean (0.4–0.5 % on the
+// test's matte balls; 4.6 % on a disc half covered by a rectangle, 8–20 % on
+// rings around other clutter, measured in bench-detect's scenes). Not
+// recognised this way: a mirror ball (its interior is a picture of the room)
+// and a glossy ball with a sharp highlight. Those do not make a photo
+// ambiguous; the best-supported rim is measured.
+constexpr double kMinShadingRatio = 1.3;
+constexpr double kMaxShadingResidual = 0.02;
+
+bool ShadedLikeASphere(const cv::Mat& lin, const Circle& c) {
+  const int grid = 9;
+  const double half = 0.8 * c.r, cell = 2 * half / grid;
+  if (cell < 2) return false;  // too small to judge its shading
+  std::vector<double> rows, values;
+  for (int j = 0; j < grid; ++j)
+    for (int i = 0; i < grid; ++i) {
+      const double x = c.cx - half + (i + 0.5) * cell, y = c.cy - half + (j + 0.5) * cell;
+      const double nx = (x - c.cx) / c.r, ny = (y - c.cy) / c.r, q = 1 - nx * nx - ny * ny;
+      if (q < 1 - 0.8 * 0.8) continue;
+      const int x0 = static_cast<int>(x - cell / 2), y0 = static_cast<int>(y - cell / 2);
+      const int side = static_cast<int>(cell);
+      if (x0 < 0 || y0 < 0 || x0 + side > lin.cols || y0 + side > lin.rows) continue;
+      // At most 16 × 16 pixels of the cell: noise averages down as well, and
+      // a 12 MP sphere's cells are not read whole for every candidate.
+      const int stride = std::max(1, side / 16);
+      double sum = 0;
+      int count = 0;
+      for (int v = y0; v < y0 + side; v += stride)
+        for (int u = x0; u < x0 + side; u += stride) {
+          const cv::Vec3f& p = lin.at<cv::Vec3f>(v, u);
+          sum += p[0] + p[1] + p[2];
+          ++count;
+        }
+      const double nz = std::sqrt(q);
+      rows.insert(rows.end(), {1, nx, ny, nz, nx * ny, ny * nz, nx * nz, nx * nx - ny * ny, 3 * nz * nz - 1});
+      values.push_back(sum / count);
+    }
+  const int n = static_cast<int>(values.size());
+  if (n < 20) return false;
+  std::vector<double> sorted = values;
+  std::sort(sorted.begin(), sorted.end());
+  const double p10 = sorted[n / 10], p90 = sorted[n * 9 / 10];
+  if (!(p10 > 0) || p90 < kMinShadingRatio * p10) return false;
+  const cv::Mat A(n, 9, CV_64F, rows.data()), b(n, 1, CV_64F, values.data());
+  cv::Mat coef;
+  cv::solve(A, b, coef, cv::DECOMP_SVD);
+  const cv::Mat res = A * coef - b;
+  const double mean = cv::mean(b)[0];
+  return std::sqrt(res.dot(res) / n) < kMaxShadingResidual * mean;
+}
+
+}  // namespace
+
 SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o) {
   if (rgb_in.channels() != 3) throw Error("sphere detection wants an RGB image");
   cv::Mat lin;
@@ -153,56 +306,75 @@ SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o
   // Rim profiles are sampled from the linear image: blur is linear there, so a
   // blurred step's steepest point is the step. In log it shifts towards the
   // darker side by a fraction of the blur (0.3–0.5 px measured here).
-  // Rank the candidates by rim support: the fraction of rays with a strong
-  // edge within a few percent of their radius, measured at full resolution.
-  SphereDetection det;
-  double best = 0, best_support = 0;
-  for (size_t i = 0; i < std::min<size_t>(cands.size(), 40); ++i) {
-    const Circle& c = cands[i];
-    const double band = std::max(4.0, 0.06 * c.r);
-    const std::vector<cv::Point2d> pts =
-        RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90);
-    int near = 0;
-    for (const auto& p : pts) near += std::abs(std::hypot(p.x - c.cx, p.y - c.cy) - c.r) < band;
-    // A sphere is usually the largest closed rim in the picture: score the
-    // rim's supported length, not its fraction (a small disc is as round).
-    const double support = near / 90.0;
-    if (support >= 0.5 && support * c.r > best) best = support * c.r, det.coarse = c;
-    best_support = std::max(best_support, support);
+  double best_support = 0;
+  std::vector<RankedCircle> ranked = RankByRimSupport(lin, cands, &best_support);
+  const bool picked = o.near.x >= 0;
+  if (picked) {
+    // The user's point chooses among the spheres: only circles around it.
+    ranked.erase(std::remove_if(ranked.begin(), ranked.end(),
+                                [&](const RankedCircle& rc) {
+                                  return std::hypot(o.near.x - rc.circle.cx, o.near.y - rc.circle.cy) > rc.circle.r;
+                                }),
+                 ranked.end());
   }
-  if (best == 0)
-    throw Error("no sphere found (" + std::to_string(cands.size()) + " circle candidates, best rim support " +
+  if (ranked.empty())
+    throw Error("no sphere found (" + std::to_string(cands.size()) + " circle candidates" +
+                (picked ? ", none around the given point" : "") + ", best rim support " +
                 std::to_string(static_cast<int>(100 * best_support)) + " %, need 50 %)");
-  det.principal = o.principal.x >= 0 ? o.principal : cv::Point2d(lin.cols / 2.0, lin.rows / 2.0);
-  det.focal_px = o.focal_px;
-  det.perspective = o.focal_px > 0;
-  Circle c = det.coarse;
-  // Three passes, each in a narrower band around the last fit: wide enough
-  // first for a coarse circle 10 % off, narrow last so clutter stays out, and
-  // the rim model (rim_profile.h) only in the last.
-  for (int pass = 0; pass < 3; ++pass) {
-    // Under perspective the rim is an ellipse; around the apparent circle it
-    // strays by up to r (1 − cos θ_c), θ_c the centre's angle off axis.
-    const double ellipse = det.perspective && pass ? c.r * (1 + det.cone.centre_dir.z) : 0.0;
-    const double band = pass == 0 ? std::max(8.0, 0.12 * c.r) : pass == 1 ? std::max(6.0, 0.03 * c.r) + ellipse
-                                                                           : 14.0 + ellipse;
-    det.edge_points = RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - band), c.r + band, o.rays,
-                                       pass == 2 ? &det.blur_sigma : nullptr);
-    if (det.perspective) {
-      det.cone = FitConeRobust(det.edge_points, o.focal_px, det.principal, &det.quality);
-      c = ApparentCircle(det.cone, o.focal_px, det.principal);
-    } else {
-      c = FitCircleRobust(det.edge_points, &det.quality);
+  // The sub-pixel stage on a candidate; false when its rim fails the test or
+  // has too few edge points for a circle at all.
+  auto refine = [&](const Circle& coarse, SphereDetection* d) {
+    try {
+      return RefineRim(lin, coarse, o, d);
+    } catch (const Error&) {
+      return false;
+    }
+  };
+  SphereDetection det;
+  bool found = refine(ranked[0].circle, &det);
+  const SphereDetection best_rim = det;
+  // The best-supported rim is the sphere when it passes and is shaded like
+  // one. Otherwise (a large clutter ring outranks the sphere, passes or not)
+  // a lower-ranked candidate shaded like a sphere whose rim passes wins.
+  if (!found || !ShadedLikeASphere(lin, det.circle)) {
+    int tried = 0;
+    for (size_t i = 1; i < ranked.size() && tried < 3; ++i) {
+      if (!ShadedLikeASphere(lin, ranked[i].circle)) continue;
+      ++tried;
+      SphereDetection d;
+      if (refine(ranked[i].circle, &d)) {
+        det = d, found = true;
+        break;
+      }
     }
   }
-  // A sphere's rim fits its circle to a fraction of a pixel along most rays;
-  // a circle found in clutter or a probe does not.
-  if (det.quality.rms_px > 1.0 || det.quality.inliers < 0.3 * o.rays)
-    throw Error("no sphere found: the best circle's rim fits to " + std::to_string(det.quality.rms_px) +
-                " px rms over " + std::to_string(det.quality.inliers) + " of " + std::to_string(o.rays) +
+  if (!found)
+    throw Error("no sphere found: the best circle's rim fits to " + std::to_string(best_rim.quality.rms_px) +
+                " px rms over " + std::to_string(best_rim.quality.inliers) + " of " + std::to_string(o.rays) +
                 " rays (need ≤ 1 px over 30 %)" +
-                (det.perspective ? "" : "; if the sphere is seen in perspective, give the focal length"));
-  det.circle = c;
+                (best_rim.perspective ? "" : "; if the sphere is seen in perspective, give the focal length"));
+  if (picked) return det;
+  // A second sphere beside the first (two samples in one shot, a grey ball
+  // next to the sample): measuring either silently could fit the wrong
+  // material, so the user must say which. A second candidate counts when it
+  // lies apart from the first, is shaded like a lit sphere (not a flat disc or
+  // a ring around other things) and passes the same rim test.
+  const Circle& first = det.circle;
+  int tried = 0;
+  for (size_t i = 0; i < ranked.size() && tried < 3; ++i) {
+    const Circle& c = ranked[i].circle;
+    if (std::hypot(c.cx - first.cx, c.cy - first.cy) < first.r + 0.8 * c.r) continue;
+    if (!ShadedLikeASphere(lin, c)) continue;
+    ++tried;
+    SphereDetection other;
+    if (!refine(c, &other)) continue;
+    char msg[320];
+    std::snprintf(msg, sizeof msg,
+                  "two spheres found, centred at (%.1f, %.1f) r %.1f px and (%.1f, %.1f) r %.1f px: say which to "
+                  "measure with a point inside it (normals --near X,Y) or crop the photo",
+                  first.cx, first.cy, first.r, other.circle.cx, other.circle.cy, other.circle.r);
+    throw Error(msg);
+  }
   return det;
 }
 

@@ -28,7 +28,11 @@ struct SphereDetectOptions {
   int rays = 720;                // radial profiles for the sub-pixel edge
   double focal_px = 0;           // > 0: perspective model (silhouette is an ellipse)
   cv::Point2d principal{-1, -1}; // default: image centre
+  // When the photo holds several spheres, the one around this pixel
+  // (continuous coordinates). Default (negative): the photo must hold one.
+  cv::Point2d near{-1, -1};
 };
+
 
 struct SphereDetection {
   Circle coarse;        // Hough's circle, full-resolution pixels
@@ -47,7 +51,9 @@ struct SphereDetection {
 // magnified into edges.
 cv::Mat LogLuminance(const cv::Mat& rgb);
 
-// Throws Error("no sphere found ...") when no candidate has a closed rim.
+// Throws Error("no sphere found ...") when no candidate has a closed rim, and
+// Error("two spheres found ...") when a second, separate candidate is shaded
+// like a sphere and passes the same rim test (unless options.near picks one).
 SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& options = {});
 
 // Edge points along `rays` radial profiles of `image` (float, one channel or

@@ -72,5 +72,32 @@ TEST(SphereDetect, NoSphereIsAnError) {
   EXPECT_THROW(DetectSphere(RenderSyntheticSphere(s)), Error);
 }
 
+// Two lit balls apart (a chrome ball beside the sample, two samples in one
+// shot): measuring either silently could fit the wrong material, so the
+// detector refuses; a point inside one picks it, to the same sub-pixel goal.
+TEST(SphereDetect, TwoSpheresAreRefusedUnlessAPointPicksOne) {
+  SyntheticSphereScene s;
+  s.circle = {190.4, 250.2, 95.3};
+  s.second_sphere = {470.7, 215.6, 72.1};
+  const cv::Mat img = RenderSyntheticSphere(s);
+  try {
+    DetectSphere(img);
+    ADD_FAILURE() << "a photo with two spheres was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("two spheres found"), std::string::npos) << e.what();
+  }
+  for (const Circle& truth : {s.circle, s.second_sphere}) {
+    SphereDetectOptions o;
+    o.near = {truth.cx + 0.3 * truth.r, truth.cy - 0.2 * truth.r};
+    const SphereDetection d = DetectSphere(img, o);
+    EXPECT_LE(std::max(CentreError(d.circle, truth), std::abs(d.circle.r - truth.r)), 0.1)
+        << "picked the ball at " << truth.cx << "," << truth.cy << ", found " << d.circle.cx << "," << d.circle.cy
+        << " r " << d.circle.r;
+  }
+  SphereDetectOptions nowhere;
+  nowhere.near = {5, 5};
+  EXPECT_THROW(DetectSphere(img, nowhere), Error);
+}
+
 }  // namespace
 }  // namespace brdfshot

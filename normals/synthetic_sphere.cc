@@ -47,6 +47,24 @@ cv::Mat RenderSyntheticSphere(const SyntheticSphereScene& s) {
   }
   // The sphere as a camera model: the same ray tracing the pipeline uses for
   // normals (sphere_view.h, tested there against closed forms).
+  auto draw = [&img](const SphereView& view) {
+    const cv::Rect box = view.Bounds(3);
+    for (int y = box.y; y < box.y + box.height; ++y)
+      for (int x = box.x; x < box.x + box.width; ++x) {
+        cv::Vec3f& out = img.at<cv::Vec3f>(y, x);
+        Vec3 n, w;
+        if (std::abs(view.RimDistance(x + 0.5, y + 0.5)) > 1.5) {  // away from the rim: one sample
+          if (view.Trace(x + 0.5, y + 0.5, &n, &w)) out = Shade(n);
+          continue;
+        }
+        const int k = 16;
+        cv::Vec3f sum(0, 0, 0);
+        for (int j = 0; j < k; ++j)
+          for (int i = 0; i < k; ++i)
+            sum += view.Trace(x + (i + 0.5) / k, y + (j + 0.5) / k, &n, &w) ? Shade(n) : out;
+        out = sum / static_cast<float>(k * k);
+      }
+  };
   SphereView view;
   view.width = s.width;
   view.height = s.height;
@@ -59,21 +77,14 @@ cv::Mat RenderSyntheticSphere(const SyntheticSphereScene& s) {
   } else {
     view.circle = s.circle;
   }
-  const cv::Rect box = view.Bounds(3);
-  for (int y = box.y; y < box.y + box.height; ++y)
-    for (int x = box.x; x < box.x + box.width; ++x) {
-      cv::Vec3f& out = img.at<cv::Vec3f>(y, x);
-      Vec3 n, w;
-      if (std::abs(view.RimDistance(x + 0.5, y + 0.5)) > 1.5) {  // away from the rim: one sample
-        if (view.Trace(x + 0.5, y + 0.5, &n, &w)) out = Shade(n);
-        continue;
-      }
-      const int k = 16;
-      cv::Vec3f sum(0, 0, 0);
-      for (int j = 0; j < k; ++j)
-        for (int i = 0; i < k; ++i) sum += view.Trace(x + (i + 0.5) / k, y + (j + 0.5) / k, &n, &w) ? Shade(n) : out;
-      out = sum / static_cast<float>(k * k);
-    }
+  draw(view);
+  if (s.second_sphere.r > 0) {
+    SphereView second;
+    second.width = s.width;
+    second.height = s.height;
+    second.circle = s.second_sphere;
+    draw(second);
+  }
   if (s.blur_sigma > 0) cv::GaussianBlur(img, img, cv::Size(), s.blur_sigma);
   if (s.noise > 0) {
     cv::Mat n(img.size(), CV_32FC3);

@@ -21,6 +21,9 @@ struct SyntheticSphereScene {
   double blur_sigma = 1.0;  // px, Gaussian optical blur
   double noise = 0.01;      // additive Gaussian, image values are ~0.05 … 1
   int clutter = 30;         // random rectangles, discs and rings behind the sphere
+  // A second ball, orthographic, drawn like the first when its radius is > 0
+  // (a photo the detector must refuse as ambiguous).
+  Circle second_sphere{0, 0, 0};
   uint64_t seed = 1;
 };
 

@@ -52,6 +52,13 @@ ppm "$T/small.ppm" 32 48 100
 row frame-sizes "small.ppm: is 32x48, $T/black1.ppm is 64x48" "$T/m.exr" "$T/small.ppm" -- "$B" merge "$T/black1.ppm" "$T/small.ppm" --times "$T/times.txt" -o "$T/m.exr"
 discs "$T/none.ppm" 320 240 ""
 row no-sphere "none.ppm: no sphere found" "$T/s.json" "$T/none.ppm" -- "$B" normals "$T/none.ppm" -o "$T/s.json"
+discs "$T/two.ppm" 320 240 "85 120 60 235 115 55"
+row two-spheres "two.ppm: two spheres found, centred at (" "$T/s.json" "$T/two.ppm" -- "$B" normals "$T/two.ppm" -o "$T/s.json"
+row near-outside "--near 400,10 lies outside the photo" "$T/s.json" "$T/two.ppm" -- "$B" normals "$T/two.ppm" --near 400,10 -o "$T/s.json"
+# --near picks one of them: exit 0 and that sphere's circle.
+out=$("$B" normals "$T/two.ppm" --near 240,100 -o "$T/two.json" 2>&1); rc=$?
+if [ "$rc" = 0 ] && grep -q '"cx": 235.0' "$T/two.json" && grep -q '"r": 55.0' "$T/two.json"; then pass=$((pass+1));
+else echo "FAIL two-spheres-near: rc=$rc, output: $out"; fail=$((fail+1)); fi
 # A sphere cut by the border is still measured (the visible rim fixes the
 # circle): a warning naming the file, exit 0, and the right circle.
 discs "$T/cut.ppm" 320 240 "290 120 80"

@@ -8,6 +8,8 @@
 #include <half.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -104,6 +106,34 @@ cv::Mat ReadExr(const std::string& path) {
     throw FileError(path, std::string("not a readable OpenEXR file: ") + e.what());
   }
 }
+// cv::imread decodes whatever the bytes are, whatever the extension says: an
+// OpenEXR file named .hdr went through OpenCV's own EXR path, which skips the
+// data-window check ReadExr makes and allocated line buffers for a
+// 10-million-pixel-wide window from a 358-byte file (fuzz_probe). So the magic
+// must match the extension, and a PFM's pixel count must fit the file.
+void CheckRadianceOrPfmHeader(const std::string& path, const std::string& ext) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(64, '\0');
+  in.read(&head[0], static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  if (ext == ".pfm") {
+    if (head.size() < 3 || head[0] != 'P' || (head[1] != 'F' && head[1] != 'f') || !std::isspace(head[2]))
+      throw FileError(path, "not a PFM file (it does not start with 'PF' or 'Pf')");
+    long long w = 0, h = 0;
+    int used = 0;
+    if (std::sscanf(head.c_str() + 2, " %lld %lld%n", &w, &h, &used) != 2 || w <= 0 || h <= 0)
+      throw FileError(path, "PFM header has no valid width and height");
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(path, ec);
+    const long long need = w * h * (head[1] == 'F' ? 3 : 1) * 4;
+    if (ec || w > (1 << 20) || h > (1 << 20) || static_cast<long long>(bytes) < need)
+      throw FileError(path, "PFM header says " + std::to_string(w) + "x" + std::to_string(h) + " pixels, more than its " +
+                                std::to_string(ec ? 0 : bytes) + " bytes hold (truncated)");
+  } else if (head.size() < 2 || head[0] != '#' || head[1] != '?') {
+    throw FileError(path, "not a Radiance HDR file (it does not start with '#?')");
+  }
+}
+
 }  // namespace
 
 cv::Mat ReadHdrImage(const std::string& path) {
@@ -115,6 +145,7 @@ cv::Mat ReadHdrImage(const std::string& path) {
   if (ext == ".exr") {
     rgb = ReadExr(path);
   } else if (ext == ".hdr" || ext == ".pic" || ext == ".pfm") {
+    CheckRadianceOrPfmHeader(path, ext);
     cv::Mat bgr;
     try {
       bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);

@@ -6,6 +6,7 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -140,6 +141,52 @@ TEST(ImageIo, ExrAttributeSizeBeyondTheFileIsRefused) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
   }
   std::filesystem::remove(path);
+}
+
+// Radiance HDR and PFM go through OpenCV, which decodes whatever the bytes
+// are: the magic must match the extension (an EXR named .hdr is refused, not
+// decoded by another path), a PFM's pixels must fit its file, and files
+// OpenCV writes still read back (to RGBE's precision, PFM's exactly).
+TEST(ImageIo, RadianceAndPfmMustBeWhatTheirExtensionSays) {
+  const cv::Mat ramp = HdrRamp();
+  cv::Mat bgr;
+  cv::cvtColor(ramp, bgr, cv::COLOR_RGB2BGR);
+  const std::string hdr = TempPath("ok.hdr"), pfm = TempPath("ok.pfm");
+  ASSERT_TRUE(cv::imwrite(hdr, bgr));
+  ASSERT_TRUE(cv::imwrite(pfm, bgr));
+  const cv::Mat a = ReadHdrImage(hdr), b = ReadHdrImage(pfm);
+  for (int i = 0; i < static_cast<int>(ramp.total()); ++i) {
+    // RGBE: one shared exponent, 8-bit mantissas: each channel is exact to
+    // 2⁻⁷ of the pixel's largest channel.
+    const cv::Vec3f t = ramp.at<cv::Vec3f>(i);
+    const float largest = std::max({t[0], t[1], t[2]});
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(a.at<cv::Vec3f>(i)[c], t[c], largest / 128);
+      EXPECT_EQ(b.at<cv::Vec3f>(i)[c], t[c]);
+    }
+  }
+  auto message = [](const std::string& path) {
+    try {
+      ReadHdrImage(path);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string exr_as_hdr = TempPath("exr.hdr");
+  WriteExr(exr_as_hdr, ramp);
+  EXPECT_NE(message(exr_as_hdr).find("not a Radiance HDR file"), std::string::npos) << message(exr_as_hdr);
+  const std::string big = TempPath("big.pfm");
+  { std::ofstream(big, std::ios::binary) << "PF\n100000 100000\n-1.0\nabcd"; }
+  EXPECT_NE(message(big).find("more than its 26 bytes hold"), std::string::npos) << message(big);
+  const std::string short_pfm = TempPath("short.pfm");
+  {
+    std::ifstream in(pfm, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(short_pfm, std::ios::binary) << bytes.substr(0, bytes.size() - 4);
+  }
+  EXPECT_NE(message(short_pfm).find("truncated"), std::string::npos) << message(short_pfm);
+  for (const std::string& p : {hdr, pfm, exr_as_hdr, big, short_pfm}) std::filesystem::remove(p);
 }
 
 }  // namespace
