@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -139,6 +140,35 @@ TEST(ImageIo, ExrAttributeSizeBeyondTheFileIsRefused) {
     EXPECT_NE(std::string(e.what()).find("attribute 'channels' claims 1073741824 bytes"), std::string::npos)
         << e.what();
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+  }
+  std::filesystem::remove(path);
+}
+
+// A channel list whose declared size disagrees with its content (OpenEXR
+// reads the content and goes on from its end, so the rest of the header is
+// then read from the wrong place) is refused before OpenEXR parses it.
+TEST(ImageIo, ExrChannelListSizeMustMatchItsContent) {
+  const std::string path = TempPath("chlist.exr");
+  WriteExr(path, HdrRamp());
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t at = 8 + std::string("channels").size() + 1 + std::string("chlist").size() + 1;
+  int32_t size;
+  std::memcpy(&size, bytes.data() + at, 4);
+  ASSERT_EQ(size, 3 * (2 + 16) + 1);  // "B\0", "G\0", "R\0" + 16 bytes each, and the closing \0
+  const int32_t wrong = size + 40;
+  bytes.replace(at, 4, reinterpret_cast<const char*>(&wrong), 4);
+  { std::ofstream(path, std::ios::binary) << bytes; }
+  try {
+    ReadHdrImage(path);
+    FAIL() << "inconsistent channel list accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("attribute 'channels' declares 95 bytes, its content takes 55"),
+              std::string::npos)
+        << e.what();
   }
   std::filesystem::remove(path);
 }
