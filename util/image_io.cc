@@ -110,13 +110,15 @@ cv::Mat ReadExr(const std::string& path) {
     const bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
     if (!rgb && !ch.findChannel("Y")) throw FileError(path, "has neither R, G, B nor Y channels");
     cv::Mat out(static_cast<int>(h), static_cast<int>(w), CV_32FC3);
-    char* origin = reinterpret_cast<char*>(out.ptr<float>()) -
-                   (static_cast<long>(dw.min.x) + static_cast<long>(dw.min.y) * w) * 3 * sizeof(float);
+    // Slice::Make places the data window's corner at our buffer's start; the
+    // usual "base − (min.x + min.y·w)·stride" pointer is undefined behaviour
+    // in C++ when the window does not start at 0,0 (UBSan, fuzz_probe).
     const size_t xs = 3 * sizeof(float), ys = xs * w;
     Imf::FrameBuffer fb;
     const char* names[3] = {"R", "G", "B"};
     for (int c = 0; c < (rgb ? 3 : 1); ++c)
-      fb.insert(rgb ? names[c] : "Y", Imf::Slice(Imf::FLOAT, origin + c * sizeof(float), xs, ys, 1, 1, 0.0));
+      fb.insert(rgb ? names[c] : "Y",
+                Imf::Slice::Make(Imf::FLOAT, out.ptr<float>() + c, dw, xs, ys, 1, 1, 0.0));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     if (!rgb) {  // luminance-only file: grey

@@ -116,6 +116,29 @@ TEST(ImageIo, ErrorsNameTheFile) {
   EXPECT_THROW(ReadHdrImage(std::filesystem::temp_directory_path().string()), Error);
 }
 
+// A data window that does not start at 0,0 (negative here, as crops and
+// overscan renders write): its corner is the image's first pixel.
+TEST(ImageIo, ExrDataWindowOffTheOriginReadsInPlace) {
+  const std::string path = TempPath("window.exr");
+  const Imath::Box2i window(Imath::V2i(-3, -2), Imath::V2i(1, 0));  // 5 × 3
+  std::vector<float> y(15);
+  for (int i = 0; i < 15; ++i) y[i] = 1.0f + i;
+  {
+    Imf::Header h(Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(9, 9)), window);
+    h.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile f(path.c_str(), h);
+    Imf::FrameBuffer fb;
+    fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, y.data(), window, sizeof(float), 5 * sizeof(float)));
+    f.setFrameBuffer(fb);
+    f.writePixels(3);
+  }
+  const cv::Mat r = ReadHdrImage(path);
+  ASSERT_EQ(r.cols, 5);
+  ASSERT_EQ(r.rows, 3);
+  for (int i = 0; i < 15; ++i) EXPECT_EQ(r.at<cv::Vec3f>(i / 5, i % 5)[1], y[i]) << "pixel " << i;
+  std::filesystem::remove(path);
+}
+
 // A corrupt attribute size is refused before OpenEXR allocates it; the file is
 // otherwise our own valid EXR, so the check is also shown not to refuse one.
 TEST(ImageIo, ExrAttributeSizeBeyondTheFileIsRefused) {
