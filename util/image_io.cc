@@ -29,6 +29,18 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
+// The data window's size, or a FileError when no real image has it: any
+// compression keeps well under 4096 pixels per byte, so past 16 MP a window
+// larger than that is a corrupt header, not a picture to allocate gigabytes
+// for. Sides are computed in 64 bits (max − min of two int32 can overflow).
+cv::Size CheckedDataWindowSize(const std::string& path, const Imath::Box2i& dw, int64_t file_bytes) {
+  const int64_t w = int64_t{dw.max.x} - dw.min.x + 1, h = int64_t{dw.max.y} - dw.min.y + 1;
+  if (w <= 0 || h <= 0 || w > (1 << 20) || h > (1 << 20) || (w * h > (1 << 24) && w * h / 4096 > file_bytes))
+    throw FileError(path, "bad data window " + std::to_string(w) + "x" + std::to_string(h) + " for a " +
+                              std::to_string(file_bytes) + "-byte file");
+  return cv::Size(static_cast<int>(w), static_cast<int>(h));
+}
+
 // Walks the first header's attribute list (name\0 type\0 int32 size, value)
 // and refuses a size the file cannot hold. OpenEXR allocates each attribute at
 // its declared size before reading it, so a corrupt 1 KB file could otherwise
@@ -88,10 +100,7 @@ int64_t CheckExrHeaderSizes(const std::string& path) {
       // wide lines from a 191-byte file).
       int32_t box[4];
       if (!in.read(reinterpret_cast<char*>(box), 16)) mismatch(16);
-      const int64_t w = int64_t{box[2]} - box[0] + 1, h = int64_t{box[3]} - box[1] + 1;
-      if (w <= 0 || h <= 0 || w > (1 << 20) || h > (1 << 20) || (w * h > (1 << 24) && w * h / 4096 > file_size))
-        throw FileError(path, "bad data window " + std::to_string(w) + "x" + std::to_string(h) + " for a " +
-                                  std::to_string(file_size) + "-byte file");
+      CheckedDataWindowSize(path, Imath::Box2i(Imath::V2i(box[0], box[1]), Imath::V2i(box[2], box[3])), file_size);
     } else if (type == "preview") {
       uint32_t wh[2] = {0, 0};
       if (size < 8 || !in.read(reinterpret_cast<char*>(wh), 8)) mismatch(8);
@@ -109,13 +118,10 @@ cv::Mat ReadExr(const std::string& path) {
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
-    const long w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-    // Any compression of a real image keeps well under 4096 pixels per byte;
-    // past 16 MP a window larger than that is a corrupt header, not a picture
-    // to allocate gigabytes for.
-    if (w <= 0 || h <= 0 || w > (1L << 20) || h > (1L << 20) || (w * h > (1L << 24) && w * h / 4096 > bytes))
-      throw FileError(path, "bad data window " + std::to_string(w) + "x" + std::to_string(h) + " for a " +
-                                std::to_string(bytes) + "-byte file");
+    // Checked again from OpenEXR's own parse: the walk above sees the window
+    // only when its attribute is the standard 16-byte box2i.
+    const cv::Size size = CheckedDataWindowSize(path, dw, bytes);
+    const long w = size.width, h = size.height;
     const Imf::ChannelList& ch = file.header().channels();
     const bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
     if (!rgb && !ch.findChannel("Y")) throw FileError(path, "has neither R, G, B nor Y channels");
@@ -154,16 +160,18 @@ void CheckRadianceOrPfmHeader(const std::string& path, const std::string& ext) {
   in.read(&head[0], static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<size_t>(in.gcount()));
   if (ext == ".pfm") {
-    if (head.size() < 3 || head[0] != 'P' || (head[1] != 'F' && head[1] != 'f') || !std::isspace(head[2]))
+    if (head.size() < 3 || head[0] != 'P' || (head[1] != 'F' && head[1] != 'f') ||
+        !std::isspace(static_cast<unsigned char>(head[2])))
       throw FileError(path, "not a PFM file (it does not start with 'PF' or 'Pf')");
     long long w = 0, h = 0;
-    int used = 0;
-    if (std::sscanf(head.c_str() + 2, " %lld %lld%n", &w, &h, &used) != 2 || w <= 0 || h <= 0)
+    if (std::sscanf(head.c_str() + 2, " %lld %lld", &w, &h) != 2 || w <= 0 || h <= 0)
       throw FileError(path, "PFM header has no valid width and height");
     std::error_code ec;
     const auto bytes = std::filesystem::file_size(path, ec);
-    const long long need = w * h * (head[1] == 'F' ? 3 : 1) * 4;
-    if (ec || w > (1 << 20) || h > (1 << 20) || static_cast<long long>(bytes) < need)
+    // Sides bounded before they are multiplied (no overflow).
+    const bool too_wide = w > (1 << 20) || h > (1 << 20);
+    const long long need = too_wide ? 0 : w * h * (head[1] == 'F' ? 3 : 1) * 4;
+    if (ec || too_wide || static_cast<long long>(bytes) < need)
       throw FileError(path, "PFM header says " + std::to_string(w) + "x" + std::to_string(h) + " pixels, more than its " +
                                 std::to_string(ec ? 0 : bytes) + " bytes hold (truncated)");
   } else if (head.size() < 2 || head[0] != '#' || head[1] != '?') {

@@ -24,6 +24,17 @@ std::string TempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("brdfshot_image_io_" + name)).string();
 }
 
+std::string ReadBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void WriteBytes(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+
+// Where the size of an EXR's first attribute sits: after the 8-byte
+// magic/version and "channels\0chlist\0".
+constexpr size_t kChannelsSizeAt = 8 + sizeof("channels") + sizeof("chlist");
+
 cv::Mat HdrRamp() {
   // 1e-4 … 1e6: a dark corner to a sun, beyond half's 65504.
   cv::Mat m(7, 9, CV_32FC3);
@@ -145,17 +156,11 @@ TEST(ImageIo, ExrAttributeSizeBeyondTheFileIsRefused) {
   const std::string path = TempPath("attr.exr");
   WriteExr(path, HdrRamp());
   ASSERT_NO_THROW(ReadHdrImage(path));
-  std::string bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
-  }
-  // The first attribute follows the 8-byte magic/version: "channels\0chlist\0" + int32 size.
-  const size_t at = 8 + std::string("channels").size() + 1 + std::string("chlist").size() + 1;
+  std::string bytes = ReadBytes(path);
   ASSERT_EQ(bytes.compare(8, 8, "channels"), 0);
   const int32_t huge = 1 << 30;
-  bytes.replace(at, 4, reinterpret_cast<const char*>(&huge), 4);
-  { std::ofstream(path, std::ios::binary) << bytes; }
+  bytes.replace(kChannelsSizeAt, 4, reinterpret_cast<const char*>(&huge), 4);
+  WriteBytes(path, bytes);
   try {
     ReadHdrImage(path);
     FAIL() << "corrupt attribute size accepted";
@@ -173,18 +178,14 @@ TEST(ImageIo, ExrAttributeSizeBeyondTheFileIsRefused) {
 TEST(ImageIo, ExrChannelListSizeMustMatchItsContent) {
   const std::string path = TempPath("chlist.exr");
   WriteExr(path, HdrRamp());
-  std::string bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
-  }
-  const size_t at = 8 + std::string("channels").size() + 1 + std::string("chlist").size() + 1;
+  std::string bytes = ReadBytes(path);
+  ASSERT_EQ(bytes.compare(8, 8, "channels"), 0);
   int32_t size;
-  std::memcpy(&size, bytes.data() + at, 4);
+  std::memcpy(&size, bytes.data() + kChannelsSizeAt, 4);
   ASSERT_EQ(size, 3 * (2 + 16) + 1);  // "B\0", "G\0", "R\0" + 16 bytes each, and the closing \0
   const int32_t wrong = size + 40;
-  bytes.replace(at, 4, reinterpret_cast<const char*>(&wrong), 4);
-  { std::ofstream(path, std::ios::binary) << bytes; }
+  bytes.replace(kChannelsSizeAt, 4, reinterpret_cast<const char*>(&wrong), 4);
+  WriteBytes(path, bytes);
   try {
     ReadHdrImage(path);
     FAIL() << "inconsistent channel list accepted";
@@ -233,11 +234,8 @@ TEST(ImageIo, RadianceAndPfmMustBeWhatTheirExtensionSays) {
   { std::ofstream(big, std::ios::binary) << "PF\n100000 100000\n-1.0\nabcd"; }
   EXPECT_NE(message(big).find("more than its 26 bytes hold"), std::string::npos) << message(big);
   const std::string short_pfm = TempPath("short.pfm");
-  {
-    std::ifstream in(pfm, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), {});
-    std::ofstream(short_pfm, std::ios::binary) << bytes.substr(0, bytes.size() - 4);
-  }
+  const std::string pfm_bytes = ReadBytes(pfm);
+  WriteBytes(short_pfm, pfm_bytes.substr(0, pfm_bytes.size() - 4));
   EXPECT_NE(message(short_pfm).find("truncated"), std::string::npos) << message(short_pfm);
   for (const std::string& p : {hdr, pfm, exr_as_hdr, big, short_pfm}) std::filesystem::remove(p);
 }
