@@ -9,6 +9,7 @@
 
 #include "apps/command.h"
 #include "apps/common_options.h"
+#include "calib/mirror_ball.h"
 #include "calib/probe_alignment.h"
 #include "calib/probe_layout.h"
 #include "calib/radiometric_scale.h"
@@ -23,39 +24,70 @@ namespace brdfshot {
 namespace po = boost::program_options;
 
 namespace {
-// A photographed mirror ball, unwrapped to lat-long in the camera's frame; its
-// circle is `circle` (cx,cy,r) when given, else found by the sphere detector.
+// How the user says where the mirror ball is: its circle (else detected) and,
+// for a perspective camera, the focal length.
+struct BallLocation {
+  std::string circle;  // cx,cy,r; empty: detected
+  double focal_px = 0;
+  double focal_35mm = 0;
+};
+
+// A photographed mirror ball, unwrapped to lat-long in the camera's frame.
 // A ball's rim reflects what lies right behind it, so against its own
 // surroundings its silhouette can vanish: then the user marks the circle, as
-// HDR tools ask for. The circle and options go into `j`.
-UnwrappedBall UnwrapBallPhoto(const std::string& path, const std::string& circle, int width,
+// HDR tools ask for. With a focal length the ball is seen in perspective: a
+// marked circle is taken as its silhouette and the cone fitted to it. The
+// circle and options go into `j`.
+UnwrappedBall UnwrapBallPhoto(const std::string& path, const BallLocation& where, int width,
                               const MirrorBallOptions& ball, nlohmann::json* j) {
   const cv::Mat img = ReadHdrImage(path);
+  SphereDetectOptions detect;
+  detect.focal_px = FocalLengthPx(where.focal_px, where.focal_35mm, img.size());
+  const cv::Point2d principal(img.cols / 2.0, img.rows / 2.0);
   Circle c;
-  if (!circle.empty()) {
-    const std::vector<double> v = ParseNumberList(circle, 3, "--ball-circle", "cx,cy,r in pixels");
+  SphereCone cone;
+  if (!where.circle.empty()) {
+    const std::vector<double> v = ParseNumberList(where.circle, 3, "--ball-circle", "cx,cy,r in pixels");
     c = {v[0], v[1], v[2]};
     if (!(c.r > 1)) throw Error("--ball-circle: the radius must be more than a pixel");
+    if (detect.focal_px > 0) {
+      std::vector<cv::Point2d> rim;
+      for (int k = 0; k < 90; ++k)
+        rim.emplace_back(c.cx + c.r * std::cos(2 * kPi * k / 90), c.cy + c.r * std::sin(2 * kPi * k / 90));
+      cone = FitConeRobust(rim, detect.focal_px, principal);
+    }
   } else {
     try {
-      c = DetectSphere(img).circle;
+      const SphereDetection det = DetectSphere(img, detect);
+      c = det.circle;
+      cone = det.cone;
     } catch (const Error& e) {
       throw FileError(path, std::string(e.what()) + " (a mirror ball's rim can vanish against its surroundings: "
                                                     "give --ball-circle cx,cy,r)");
     }
   }
-  UnwrappedBall u = UnwrapMirrorBall(img, c.cx, c.cy, c.r, width, ball);
-  *j = {{"photo", path}, {"cx", c.cx}, {"cy", c.cy}, {"r", c.r}, {"circle_given", !circle.empty()},
+  const BallCamera camera =
+      detect.focal_px > 0
+          ? BallCamera::Perspective(img.cols, img.rows, detect.focal_px, principal, cone.centre_dir, cone.half_angle)
+          : BallCamera::Orthographic(img.cols, img.rows, c.cx, c.cy, c.r);
+  UnwrappedBall u = UnwrapMirrorBall(img, camera, width, ball);
+  *j = {{"photo", path}, {"cx", c.cx}, {"cy", c.cy}, {"r", c.r}, {"circle_given", !where.circle.empty()},
+        {"camera", camera.perspective() ? "perspective" : "orthographic"},
         {"reflectance", ball.reflectance}, {"max_normal_deg", ball.max_normal_deg},
         {"camera_hole_deg", ball.camera_hole_deg},
         {"measured_fraction", cv::countNonZero(u.measured) / double(u.measured.total())}};
+  if (camera.perspective())
+    (*j)["perspective"] = {{"focal_px", camera.focal_px},
+                           {"centre_dir", {cone.centre_dir.x, cone.centre_dir.y, cone.centre_dir.z}},
+                           {"half_angle_rad", cone.half_angle}};
   return u;
 }
 }  // namespace
 
 int CalibMain(int argc, char** argv) {
   std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar, sun, sun_radiance = "1,1,1";
-  std::string rotate_from_ball, ball_circle;
+  std::string rotate_from_ball;
+  BallLocation where;
   double sun_deg = 1.0;
   std::string scale_arg, card_photo, card_region, card_normal = "0,0,1", photo_merge, probe_merge;
   double card_albedo = 0.18;
@@ -78,7 +110,9 @@ int CalibMain(int argc, char** argv) {
       ("card-region", po::value(&card_region), "--card's pixels x,y,w,h")
       ("card-albedo", po::value(&card_albedo)->default_value(card_albedo), "--card's diffuse reflectance (grey card 0.18)")
       ("card-normal", po::value(&card_normal)->default_value(card_normal), "--card's normal x,y,z in the camera frame (0,0,1: facing the camera)")
-      ("ball-circle", po::value(&ball_circle), "the mirror ball's circle cx,cy,r in pixels (default: detected)")
+      ("ball-circle", po::value(&where.circle), "the mirror ball's circle cx,cy,r in pixels (default: detected)")
+      ("ball-focal-px", po::value(&where.focal_px)->default_value(0), "focal length of the ball's photo in pixels: perspective ball (0: orthographic, right for a ball far away or small in the frame)")
+      ("ball-focal-35mm", po::value(&where.focal_35mm)->default_value(0), "instead of --ball-focal-px: 35 mm-equivalent focal length (EXIF FocalLengthIn35mmFilm)")
       ("ball-reflectance", po::value(&ball.reflectance)->default_value(ball.reflectance), "mirror ball reflectance")
       ("ball-max-angle", po::value(&ball.max_normal_deg)->default_value(ball.max_normal_deg), "ball normals beyond this (deg) are the unreliable rim")
       ("ball-camera-hole", po::value(&ball.camera_hole_deg)->default_value(ball.camera_hole_deg), "ball normals within this (deg) of the camera show the camera: filled in")
@@ -102,7 +136,7 @@ int CalibMain(int argc, char** argv) {
     throw Error("calib: give at most one of --scale, --card and --photo-merge/--probe-merge");
   if (card_photo.empty() != card_region.empty()) throw Error("calib: --card and --card-region go together");
   if (!rotate_from_ball.empty() && rotate != "0,0,0") throw Error("calib: give --rotate or --rotate-from-ball, not both");
-  if (!ball_circle.empty() && !rotate_from_ball.empty() && layout == "mirrorball")
+  if (!where.circle.empty() && !rotate_from_ball.empty() && layout == "mirrorball")
     throw Error("calib: --ball-circle is ambiguous with both --layout mirrorball and --rotate-from-ball");
   Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
   nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};
@@ -124,14 +158,14 @@ int CalibMain(int argc, char** argv) {
     probe = AngularMapToLatLong(img, width > 0 ? width : 512);
   } else if (layout == "mirrorball") {
     nlohmann::json jb;
-    probe = UnwrapBallPhoto(probe_path, ball_circle, width > 0 ? width : 512, ball, &jb).probe;
+    probe = UnwrapBallPhoto(probe_path, where, width > 0 ? width : 512, ball, &jb).probe;
     j["ball"] = jb;
   } else {
     throw Error("unknown --layout '" + layout + "': expected latlong, angular or mirrorball");
   }
   if (!rotate_from_ball.empty()) {
     nlohmann::json jb;
-    const UnwrappedBall u = UnwrapBallPhoto(rotate_from_ball, ball_circle, 256, ball, &jb);
+    const UnwrappedBall u = UnwrapBallPhoto(rotate_from_ball, where, 256, ball, &jb);
     const RotationFit fit = EstimateRotation(probe, u.probe, u.measured);
     rot = fit.rotation;
     a = {fit.yaw, fit.pitch, fit.roll};

@@ -53,7 +53,7 @@ int NormalsMain(int argc, char** argv) {
       throw Error("--near " + near + " lies outside the photo (" + std::to_string(rgb.cols) + "x" +
                   std::to_string(rgb.rows) + ")");
   }
-  if (focal_35mm > 0) o.focal_px = focal_35mm / 36.0 * std::max(rgb.cols, rgb.rows);
+  o.focal_px = FocalLengthPx(o.focal_px, focal_35mm, rgb.size());
   Stopwatch sw;
   SphereDetection det;
   try {

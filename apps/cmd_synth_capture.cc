@@ -11,7 +11,7 @@
 #include "apps/command.h"
 #include "apps/common_options.h"
 #include "apps/synthetic_capture.h"
-#include "calib/probe_layout.h"
+#include "calib/mirror_ball.h"
 #include "capture/exposure.h"
 #include "capture/synthetic_bracket.h"
 #include "util/atomic_file.h"

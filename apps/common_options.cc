@@ -86,6 +86,10 @@ void QualityArgs::Add(po::options_description& d) {
       ("brdf-supersample", po::value(&q.brdf_supersample)->default_value(q.brdf_supersample), "table reads per sample cell along sqrt(theta_h) (0: auto)");
 }
 
+double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo) {
+  return focal_35mm > 0 ? focal_35mm / 36.0 * std::max(photo.width, photo.height) : focal_px;
+}
+
 void MakeOutputDir(const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);

@@ -28,6 +28,11 @@ std::vector<std::string> SplitList(const std::string& text);  // "a,b,c"
 std::vector<double> ParseNumberList(const std::string& text, size_t count, const std::string& option,
                                     const std::string& names);
 
+// A focal length in pixels from a 35 mm-equivalent one (EXIF
+// FocalLengthIn35mmFilm: the 36 mm side of full frame maps to the photo's
+// longer side), or `focal_px` itself when `focal_35mm` is not positive.
+double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo);
+
 struct QualityArgs {
   RenderQuality q;
   void Add(boost::program_options::options_description& d);

@@ -37,36 +37,6 @@ cv::Mat LatLongToAngularMap(const LatLongProbe& probe, int size) {
   return out;
 }
 
-UnwrappedBall UnwrapMirrorBall(const cv::Mat& photo, double cx, double cy, double r, int width,
-                               const MirrorBallOptions& o) {
-  BRDFSHOT_CHECK(photo.type() == CV_32FC3 && r > 0 && width >= 4 && width % 2 == 0 && o.reflectance > 0);
-  const int height = width / 2;
-  const LatLongProbe frame(cv::Mat(height, width, CV_32FC3, cv::Scalar::all(0)));
-  cv::Mat mapx(height, width, CV_32F), mapy(height, width, CV_32F);
-  UnwrappedBall out;
-  out.measured = cv::Mat(height, width, CV_8U, cv::Scalar(0));
-  const double cos_max = std::cos(o.max_normal_deg * kPi / 180), cos_hole = std::cos(o.camera_hole_deg * kPi / 180);
-  for (int row = 0; row < height; ++row)
-    for (int col = 0; col < width; ++col) {
-      const Vec3 d = frame.DirectionAt(col + 0.5, row + 0.5);
-      const Vec3 h = d + Vec3(0, 0, 1);
-      const double len = Length(h);
-      const Vec3 n = len > 1e-9 ? h * (1 / len) : Vec3(1, 0, 0);
-      const double px = cx + r * n.x, py = cy - r * n.y;
-      const bool ok = n.z >= cos_max && (o.camera_hole_deg <= 0 || n.z < cos_hole) && px >= 0.5 &&
-                      py >= 0.5 && px <= photo.cols - 0.5 && py <= photo.rows - 0.5;
-      out.measured.at<uint8_t>(row, col) = ok ? 255 : 0;
-      mapx.at<float>(row, col) = static_cast<float>(px - 0.5);
-      mapy.at<float>(row, col) = static_cast<float>(py - 0.5);
-    }
-  cv::Mat ll;
-  cv::remap(photo, ll, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-  ll /= o.reflectance;
-  ll.setTo(cv::Scalar::all(0), out.measured == 0);
-  out.probe = LatLongProbe(FillHoles(ll, out.measured), "mirror ball");
-  return out;
-}
-
 cv::Mat FillHoles(const cv::Mat& rgb, const cv::Mat& known) {
   BRDFSHOT_CHECK(rgb.type() == CV_32FC3 && known.type() == CV_8U && known.size() == rgb.size());
   // Push–pull: average the known texels down a pyramid until every cell has
@@ -117,25 +87,6 @@ cv::Mat FillHoles(const cv::Mat& rgb, const cv::Mat& known) {
   // Known texels keep their exact values.
   rgb.copyTo(filled, known);
   return filled;
-}
-
-cv::Mat RenderMirrorBall(const LatLongProbe& probe, int size) {
-  cv::Mat out(size, size, CV_32FC3, cv::Scalar::all(0));
-  const int ss = 4;
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      cv::Vec3f sum(0, 0, 0);
-      for (int j = 0; j < ss; ++j)
-        for (int i = 0; i < ss; ++i) {
-          const double u = 2 * (x + (i + 0.5) / ss) / size - 1, v = 1 - 2 * (y + (j + 0.5) / ss) / size;
-          const double r2 = u * u + v * v;
-          if (r2 >= 1) continue;
-          const Vec3 n(u, v, std::sqrt(1 - r2));
-          sum += probe.Bilinear(Reflect(Vec3(0, 0, 1), n));
-        }
-      out.at<cv::Vec3f>(y, x) = sum / static_cast<float>(ss * ss);
-    }
-  return out;
 }
 
 }  // namespace brdfshot

@@ -75,6 +75,17 @@ check calib-card-out 1 "padded.exr: reference card region 100,50,40,4 is empty o
 check calib-card-both 1 "give at most one of --scale, --card and --photo-merge/--probe-merge" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 --scale 2 -o "$T/pc3.exr"
 check calib-card-away 1 "sends no light onto the reference card" -- "$B" calib --sun 0,0,-1 --card "$T/padded.exr" --card-region 50,50,4,4 -o "$T/pc3.exr"
 [ ! -e "$T/pc3.exr" ] && [ ! -e "$T/pc3.json" ] && pass=$((pass+1)) || { echo "FAIL calib wrote outputs on a bad card"; fail=$((fail+1)); }
+# A perspective ball seen through a very long lens is an orthographic one:
+# the same marked circle with --ball-focal-px 1e6 must unwrap to the same probe.
+check calib-ball-ortho 0 "lat-long" -- "$B" calib --probe "$T/padded.exr" --layout mirrorball --ball-circle 52,52,40 --width 64 -o "$T/ball-o.exr"
+check calib-ball-persp 0 "lat-long" -- "$B" calib --probe "$T/padded.exr" --layout mirrorball --ball-circle 52,52,40 --ball-focal-px 1e6 --width 64 -o "$T/ball-p.exr"
+grep -q '"camera": "perspective"' "$T/ball-p.json" && pass=$((pass+1)) || { echo "FAIL perspective ball not recorded"; fail=$((fail+1)); }
+be=$("$B" compare "$T/ball-o.exr" "$T/ball-p.exr" | sed -n 's/relative RMSE \([0-9.]*\).*/\1/p')
+awk -v e="$be" 'BEGIN{exit !(e != "" && e < 1e-3)}' && pass=$((pass+1)) || { echo "FAIL long-lens ball vs orthographic: '$be'"; fail=$((fail+1)); }
+# ...and through a short lens (the ball 23° across) it must not be.
+"$B" calib --probe "$T/padded.exr" --layout mirrorball --ball-circle 52,52,40 --ball-focal-px 200 --width 64 -o "$T/ball-s.exr" >/dev/null
+be=$("$B" compare "$T/ball-o.exr" "$T/ball-s.exr" | sed -n 's/relative RMSE \([0-9.]*\).*/\1/p')
+awk -v e="$be" 'BEGIN{exit !(e != "" && e > 0.05)}' && pass=$((pass+1)) || { echo "FAIL short-lens ball same as orthographic: '$be'"; fail=$((fail+1)); }
 check calib-ball-circle 1 "bad --ball-circle" -- "$B" calib --probe "$PROBE" --rotate-from-ball "$T/padded.exr" --ball-circle 50,50 -o "$T/pc5.exr"
 check calib-ball-both 1 "--ball-circle is ambiguous" -- "$B" calib --probe "$T/padded.exr" --layout mirrorball --rotate-from-ball "$T/padded.exr" --ball-circle 50,50,30 -o "$T/pc5.exr"
 # From exposure metadata: one merge against itself is scale 1; half a pair is an error.

@@ -197,6 +197,33 @@ TEST(ImageIo, ExrChannelListSizeMustMatchItsContent) {
   std::filesystem::remove(path);
 }
 
+// A box attribute (the data window) declared longer than its 16 bytes is
+// refused: OpenEXR would read the 16 and skip the rest, and the window would
+// escape the size check (fuzz_probe: a 247-byte dataWindow).
+TEST(ImageIo, ExrBoxAttributeMustBeSixteenBytes) {
+  const std::string path = TempPath("box.exr");
+  WriteExr(path, HdrRamp());
+  std::string bytes = ReadBytes(path);
+  const std::string key("dataWindow\0box2i\0", 17);
+  const size_t at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  int32_t size;
+  std::memcpy(&size, bytes.data() + at + key.size(), 4);
+  ASSERT_EQ(size, 16);
+  const int32_t longer = 40;
+  bytes.replace(at + key.size(), 4, reinterpret_cast<const char*>(&longer), 4);
+  WriteBytes(path, bytes);
+  try {
+    ReadHdrImage(path);
+    FAIL() << "40-byte box2i accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("attribute 'dataWindow' declares 40 bytes, its content takes 16"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
 // Radiance HDR and PFM go through OpenCV, which decodes whatever the bytes
 // are: the magic must match the extension (an EXR named .hdr is refused, not
 // decoded by another path), a PFM's pixels must fit its file, and files
