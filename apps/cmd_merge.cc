@@ -129,6 +129,7 @@ int MergeMain(int argc, char** argv) {
   std::vector<double> exposure(files.size(), 0);
   nlohmann::json frames_json = nlohmann::json::array();
   std::string camera;
+  double focal_35mm = 0;  // the first frame's that says
   const bool raw = IsRaw(files[0]);
   for (size_t j = 0; j < files.size(); ++j) {
     const std::string& f = files[j];
@@ -142,6 +143,7 @@ int MergeMain(int argc, char** argv) {
       exif.f_number = r.f_number;
       exif.iso = r.iso;
       exif.camera = r.camera;
+      exif.focal_35mm = r.focal_35mm;
       frames_json.push_back({{"file", f}, {"black", r.black}, {"white", r.white}, {"wb", r.wb}});
     } else {
       const cv::Mat bgr = cv::imread(f, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
@@ -159,6 +161,7 @@ int MergeMain(int argc, char** argv) {
     exposure[j] = exif.RelativeExposure();
     frames_json.back()["exif_exposure"] = exposure[j];
     if (camera.empty()) camera = exif.camera;
+    if (!(focal_35mm > 0)) focal_35mm = exif.focal_35mm;
     frames.push_back(rgb);
     progress.Step();
   }
@@ -228,7 +231,7 @@ int MergeMain(int argc, char** argv) {
     if (!cv::imwrite(tmp, m.mask)) throw FileError(tmp, "cannot write mask");
   });
   const nlohmann::json side = {{"format", "brdfshot-merge-1"}, {"frames", frames_json}, {"camera", camera},
-                               {"response", response.ToJson()}, {"raw", raw}, {"aligned", align},
+                               {"focal_35mm", focal_35mm}, {"response", response.ToJson()}, {"raw", raw}, {"aligned", align},
                                {"unreliable_fraction", m.unreliable_fraction}, {"output", out},
                                {"mask", mask_out}, {"half", half},
                                {"response_plot", plotted ? plot_out : ""}, {"command", CommandLine(argc, argv)}};

@@ -18,16 +18,32 @@
 namespace brdfshot {
 namespace po = boost::program_options;
 
+namespace {
+// The 35 mm-equivalent focal length a merge sidecar recorded from its frames'
+// EXIF (0 when the camera did not write one, or the sidecar predates it).
+double MergeSidecarFocal35mm(const std::string& path) {
+  const nlohmann::json j = ReadJsonFile(path);
+  if (!j.is_object() || j.value("format", "") != "brdfshot-merge-1")
+    throw FileError(path, "not a brdfshot merge sidecar");
+  if (!j.contains("focal_35mm")) return 0;
+  const nlohmann::json& f = j["focal_35mm"];
+  if (!f.is_number() || !(f.get<double>() >= 0 && f.get<double>() < 1e4))
+    throw FileError(path, "focal_35mm must be a focal length in mm (0: unknown)");
+  return f.get<double>();
+}
+}  // namespace
+
 int NormalsMain(int argc, char** argv) {
   std::string photo_path, out = "sphere.json", overlay;
   SphereDetectOptions o;
   double focal_35mm = 0;
-  std::string near;
+  std::string near, merge_sidecar;
   po::options_description desc("options");
   desc.add_options()
       ("photo", po::value(&photo_path)->required(), "linear HDR photo (EXR/HDR/PFM) or an 8/16-bit image")
       ("focal-px", po::value(&o.focal_px)->default_value(0), "focal length in pixels: perspective model (0: orthographic)")
       ("focal-35mm", po::value(&focal_35mm)->default_value(0), "35 mm-equivalent focal length (EXIF FocalLengthIn35mmFilm) instead of --focal-px")
+      ("merge", po::value(&merge_sidecar), "the photo's merge sidecar (from 'brdfshot merge'): its EXIF 35 mm focal length, when the camera wrote one, sets the perspective model unless --focal-px or --focal-35mm is given")
       ("near", po::value(&near), "X,Y: a pixel inside the sphere to measure, when the photo holds more than one")
       ("rays", po::value(&o.rays)->default_value(o.rays), "radial profiles for the sub-pixel rim")
       ("overlay", po::value(&overlay), "picture of the detection (default: <out>.png)")
@@ -52,6 +68,11 @@ int NormalsMain(int argc, char** argv) {
     if (o.near.x < 0 || o.near.y < 0 || o.near.x > rgb.cols || o.near.y > rgb.rows)
       throw Error("--near " + near + " lies outside the photo (" + std::to_string(rgb.cols) + "x" +
                   std::to_string(rgb.rows) + ")");
+  }
+  std::string focal_from = o.focal_px > 0 || focal_35mm > 0 ? "as given" : "";
+  if (focal_from.empty() && !merge_sidecar.empty()) {
+    focal_35mm = MergeSidecarFocal35mm(merge_sidecar);
+    if (focal_35mm > 0) focal_from = "from the EXIF 35 mm focal length in " + merge_sidecar;
   }
   o.focal_px = FocalLengthPx(o.focal_px, focal_35mm, rgb.size());
   Stopwatch sw;
@@ -93,9 +114,12 @@ int NormalsMain(int argc, char** argv) {
   cv::circle(png, cv::Point(int(v.circle.cx * 16), int(v.circle.cy * 16)), int(v.circle.r * 16), {0, 0, 255}, 1,
              cv::LINE_AA, 4);
   WritePng(overlay, png);
+  const std::string camera =
+      v.perspective ? "perspective, f " + std::to_string(static_cast<int>(std::lround(v.focal_px))) + " px " + focal_from
+                    : "orthographic";
   std::printf("sphere in %s: centre (%.2f, %.2f) radius %.2f px (%s), %d/%d rim points, rms %.3f px, blur %.2f px, %.0f ms\n"
               "wrote %s, %s\n",
-              photo_path.c_str(), v.circle.cx, v.circle.cy, v.circle.r, v.perspective ? "perspective" : "orthographic",
+              photo_path.c_str(), v.circle.cx, v.circle.cy, v.circle.r, camera.c_str(),
               det.quality.inliers, det.quality.points, det.quality.rms_px, det.blur_sigma, 1000 * secs, out.c_str(),
               overlay.c_str());
   return 0;

@@ -33,7 +33,7 @@ struct FrameFormat {
 // One bracket, frame by frame: camera → file (atomic) → EXIF. Returns the names.
 std::vector<std::string> WriteBracket(const cv::Mat& radiance, const std::vector<double>& times,
                                       const CameraModel& camera, const FrameFormat& format, const fs::path& dir,
-                                      const std::string& prefix) {
+                                      const std::string& prefix, double focal_35mm) {
   fs::create_directories(dir);
   for (const auto& e : fs::directory_iterator(dir))  // a re-run must not leave frames of an older bracket
     if (e.path().filename().string().rfind(prefix, 0) == 0) fs::remove(e.path());
@@ -49,6 +49,7 @@ std::vector<std::string> WriteBracket(const cv::Mat& radiance, const std::vector
     exif.exposure_time = times[j];
     exif.f_number = 8;
     exif.iso = 100;
+    exif.focal_35mm = focal_35mm;
     exif.camera = "brdfshot synthetic";
     WriteFileAtomicByName(path, [&](const std::string& tmp) {
       const std::vector<int> params = {cv::IMWRITE_JPEG_QUALITY, format.jpeg_quality};
@@ -120,14 +121,15 @@ int SynthCaptureMain(int argc, char** argv) {
   const fs::path dir(out);
   fs::create_directories(dir / "truth");
   const std::vector<double> photo_times = CoveringBracketTimes(photo.radiance, stops);
-  const auto photo_frames = WriteBracket(photo.radiance, photo_times, camera, format, dir / "photo", "IMG_");
+  const auto photo_frames = WriteBracket(photo.radiance, photo_times, camera, format, dir / "photo", "IMG_",
+                                          shot.focal_px * 36 / std::max(shot.width, shot.height));
   // The probe shot with the same camera (a lat-long panorama bracket), so the
   // merged probe and photo share one response and hence one radiometric scale.
   const LatLongProbe pano = probe.Resized(probe_width);
   CameraModel probe_camera = camera;
   probe_camera.seed = camera.seed + 1;
   const std::vector<double> probe_times = CoveringBracketTimes(pano.rgb(), stops);
-  const auto probe_frames = WriteBracket(pano.rgb(), probe_times, probe_camera, format, dir / "probe", "PANO_");
+  const auto probe_frames = WriteBracket(pano.rgb(), probe_times, probe_camera, format, dir / "probe", "PANO_", 0);
 
   std::string ball_circle;  // where the ball is in ball.exr (the user marks it on a real one)
   if (mirror_ball > 0) {

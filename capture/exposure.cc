@@ -30,6 +30,7 @@ ExifInfo ReadExif(const std::string& path) {
     info.exposure_time = number("Exif.Photo.ExposureTime");
     info.f_number = number("Exif.Photo.FNumber");
     info.iso = number("Exif.Photo.ISOSpeedRatings");
+    info.focal_35mm = number("Exif.Photo.FocalLengthIn35mmFilm");
     const double o = number("Exif.Image.Orientation");
     if (o >= 1 && o <= 8) info.orientation = static_cast<int>(o);
     auto text = [&](const char* key) {
@@ -64,6 +65,7 @@ void WriteExif(const std::string& path, const ExifInfo& info) {
     if (info.exposure_time > 0) exif["Exif.Photo.ExposureTime"] = ExactRational(info.exposure_time);
     if (info.f_number > 0) exif["Exif.Photo.FNumber"] = ExactRational(info.f_number);
     if (info.iso > 0) exif["Exif.Photo.ISOSpeedRatings"] = static_cast<uint16_t>(std::lround(info.iso));
+    if (info.focal_35mm > 0) exif["Exif.Photo.FocalLengthIn35mmFilm"] = static_cast<uint16_t>(std::lround(info.focal_35mm));
     exif["Exif.Image.Orientation"] = static_cast<uint16_t>(info.orientation);
     if (!info.camera.empty()) exif["Exif.Image.Make"] = info.camera;
     image->setExifData(exif);

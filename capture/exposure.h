@@ -12,6 +12,7 @@ struct ExifInfo {
   double f_number = 0;       // (0: absent)
   double iso = 0;            // (0: absent)
   int orientation = 1;       // EXIF orientation 1..8
+  double focal_35mm = 0;     // FocalLengthIn35mmFilm, mm (0: absent); normals' perspective model
   std::string camera;        // "Make Model"
   // t · ISO/100 / N², with absent ISO or N taken as 100 and 1 (they cancel in a
   // bracket shot with one ISO and aperture). 0 when the exposure time is absent.
@@ -22,7 +23,8 @@ struct ExifInfo {
 // naming the file when it cannot be opened or parsed as an image.
 ExifInfo ReadExif(const std::string& path);
 
-// Writes `info` (exposure time, f-number, ISO, orientation, camera as Make)
+// Writes `info` (exposure time, f-number, ISO, orientation, 35 mm focal
+// length rounded to the whole mm EXIF stores, camera as Make)
 // into an existing JPEG/PNG/TIFF `path` with exiv2, as a camera would. The time
 // is stored as the exact rational 1/n or n/1 when it is one, else to 1 µs.
 // Error naming the file on failure.

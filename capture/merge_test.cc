@@ -86,12 +86,14 @@ TEST(Exposure, WriteExifRoundTripsThroughReadExif) {
     in.exposure_time = t;
     in.f_number = 5.6;
     in.iso = 400;
+    in.focal_35mm = 49.6;  // EXIF holds whole mm
     in.camera = "brdfshot synthetic";
     WriteExif(f.string(), in);
     const ExifInfo out = ReadExif(f.string());
     EXPECT_NEAR(out.exposure_time, t, t < 1 && std::abs(1 / t - std::round(1 / t)) > 1e-9 ? 5e-7 : 1e-12 * t) << t;
     EXPECT_NEAR(out.f_number, 5.6, 1e-6);
     EXPECT_EQ(out.iso, 400);
+    EXPECT_EQ(out.focal_35mm, 50);
     EXPECT_EQ(out.camera, "brdfshot synthetic");
   }
   try {

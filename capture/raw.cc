@@ -60,6 +60,7 @@ RawFrame ReadRaw(const std::string& path, const std::array<double, 3>* wb) {
   f.exposure_time = raw->imgdata.other.shutter;
   f.f_number = raw->imgdata.other.aperture;
   f.iso = raw->imgdata.other.iso_speed;
+  f.focal_35mm = raw->imgdata.lens.FocalLengthIn35mmFormat;
   f.camera = std::string(raw->imgdata.idata.make) + " " + raw->imgdata.idata.model;
   return f;
 }

@@ -14,6 +14,7 @@ struct RawFrame {
   double black = 0, white = 0;        // sensor levels libraw reported
   std::array<double, 3> wb{1, 1, 1};  // multipliers applied (R, G, B)
   double exposure_time = 0, f_number = 0, iso = 0;
+  double focal_35mm = 0;  // 35 mm-equivalent focal length, mm (0: the file does not say)
   std::string camera;
 };
 

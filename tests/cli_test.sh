@@ -107,6 +107,15 @@ check fit-both 1 "exactly one of --photo and --obs" -- "$B" fit $DB --basis "$T/
 check obs-bad 1 "bad.binary: not a brdfshot observation file" -- "$B" basis $DB --probe "$PROBE" --obs "$T/bad.binary" -o "$T/bo2.bsbi"
 # bench-merge runs end to end on a small scene and beats OpenCV's Debevec there.
 check bench-merge 0 "wrote" -- "$B" bench-merge --probes "$PROBE" --size 128x64 --methods ours,cv-debevec -o "$T/bm"
+# The focal length from EXIF: synth-capture writes FocalLengthIn35mmFilm (480 px
+# over a 320 px side is 54 mm), merge records it, normals --merge uses it.
+"$B" synth-capture --probe "$PROBE" --standin demo-red-plastic $DB --size 320x240 --radius 70 --focal-px 480 \
+  --probe-shot-width 64 -o "$T/fcap" >/dev/null && "$B" merge "$T/fcap/photo" -o "$T/fp.exr" >/dev/null
+grep -q '"focal_35mm": 54.0' "$T/fp.json" && pass=$((pass+1)) || { echo "FAIL merge sidecar focal_35mm"; fail=$((fail+1)); }
+check normals-exif-focal 0 "(perspective, f 480 px from the EXIF 35 mm focal length in $T/fp.json)" -- "$B" normals "$T/fp.exr" --merge "$T/fp.json" -o "$T/fs.json"
+c=$(sed -n 's/.*centre (\([0-9.]*\), \([0-9.]*\)).*/\1 \2/p' <<<"$out")
+awk -v c="$c" 'BEGIN{split(c,a," "); exit !((a[1]-176.0)^2+(a[2]-110.4)^2 < 0.09)}' && pass=$((pass+1)) || { echo "FAIL EXIF-focal centre '$c', truth 176.0 110.4"; fail=$((fail+1)); }
+check normals-merge-bad 1 "fs.json: not a brdfshot merge sidecar" -- "$B" normals "$T/fp.exr" --merge "$T/fs.json" -o "$T/fs2.json"
 # synth-capture and report: help, bad options, bad folders.
 check synth-help 0 "--format" -- "$B" synth-capture --help
 check synth-size 1 "bad --size '64x2'" -- "$B" synth-capture --probe "$PROBE" --standin demo-gold $DB --size 64x2 -o "$T/cap"
