@@ -86,7 +86,7 @@ UnwrappedBall UnwrapBallPhoto(const std::string& path, const BallLocation& where
 
 int CalibMain(int argc, char** argv) {
   std::string probe_path, layout = "latlong", rotate = "0,0,0", out = "probe.exr", sidecar, sun, sun_radiance = "1,1,1";
-  std::string rotate_from_ball;
+  std::string rotate_from_ball, rotate_matrix;
   BallLocation where;
   double sun_deg = 1.0;
   std::string scale_arg, card_photo, card_region, card_normal = "0,0,1", photo_merge, probe_merge;
@@ -102,6 +102,7 @@ int CalibMain(int argc, char** argv) {
       ("layout", po::value(&layout)->default_value(layout), "latlong | angular | mirrorball (a photo of a chrome ball)")
       ("width", po::value(&width)->default_value(0), "lat-long width to write (0: as given, 512 for converted layouts)")
       ("rotate", po::value(&rotate)->default_value(rotate), "camera → probe rotation as yaw,pitch,roll degrees (util/rotation.h)")
+      ("rotate-matrix", po::value(&rotate_matrix), "instead of --rotate: the camera → probe rotation as a row-major 3×3 matrix r00,r01,...,r22 (e.g. from a calibration tool)")
       ("rotate-from-ball", po::value(&rotate_from_ball), "instead of --rotate: estimate the rotation from this HDR photo of a mirror ball taken from the camera's position (calib/probe_alignment.h)")
       ("scale", po::value(&scale_arg), "photo radiance per probe radiance: s or R,G,B (default 1: probe and photo merged with one camera and response)")
       ("photo-merge", po::value(&photo_merge), "instead of --scale: the scale from exposure metadata, with --probe-merge: the sample photo's merge sidecar (from 'brdfshot merge')")
@@ -135,10 +136,23 @@ int CalibMain(int argc, char** argv) {
   if (int(!scale_arg.empty()) + int(!card_photo.empty()) + int(!photo_merge.empty()) > 1)
     throw Error("calib: give at most one of --scale, --card and --photo-merge/--probe-merge");
   if (card_photo.empty() != card_region.empty()) throw Error("calib: --card and --card-region go together");
-  if (!rotate_from_ball.empty() && rotate != "0,0,0") throw Error("calib: give --rotate or --rotate-from-ball, not both");
+  if (int(rotate != "0,0,0") + int(!rotate_from_ball.empty()) + int(!rotate_matrix.empty()) > 1)
+    throw Error("calib: give one of --rotate, --rotate-matrix and --rotate-from-ball");
   if (!where.circle.empty() && !rotate_from_ball.empty() && layout == "mirrorball")
     throw Error("calib: --ball-circle is ambiguous with both --layout mirrorball and --rotate-from-ball");
   Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
+  if (!rotate_matrix.empty()) {
+    const std::vector<double> v = ParseNumberList(rotate_matrix, 9, "--rotate-matrix", "r00,r01,...,r22 row-major");
+    for (int i = 0; i < 9; ++i) rot.m[i / 3][i % 3] = v[i];
+    const double det = Dot(Vec3(rot.m[0][0], rot.m[0][1], rot.m[0][2]),
+                           Cross(Vec3(rot.m[1][0], rot.m[1][1], rot.m[1][2]), Vec3(rot.m[2][0], rot.m[2][1], rot.m[2][2])));
+    // Printed matrices carry 4–6 digits: accept that, not a scale or a mirror.
+    if (rot.OrthonormalityError() > 1e-3 || det < 0)
+      throw Error("--rotate-matrix " + rotate_matrix + " is not a rotation (RᵀR differs from I by " +
+                  std::to_string(rot.OrthonormalityError()) + ", det " + std::to_string(det) + ")");
+    const std::array<double, 3> ypr = rot.ToYawPitchRoll();
+    a = {ypr[0], ypr[1], ypr[2]};
+  }
   nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};
   LatLongProbe probe;
   if (!sun.empty()) {

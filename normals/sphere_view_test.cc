@@ -17,19 +17,6 @@
 namespace brdfshot {
 namespace {
 
-TEST(Rotation, YawPitchRollFollowTheirDocumentedSenses) {
-  const Rotation yaw = Rotation::FromYawPitchRoll(90, 0, 0);
-  const Vec3 z = yaw(Vec3(0, 0, 1));
-  EXPECT_NEAR(z.x, 1, 1e-12);  // +Z towards +X
-  const Vec3 y = Rotation::FromYawPitchRoll(0, 90, 0)(Vec3(0, 1, 0));
-  EXPECT_NEAR(y.z, 1, 1e-12);  // +Y towards +Z
-  const Vec3 x = Rotation::FromYawPitchRoll(0, 0, 90)(Vec3(1, 0, 0));
-  EXPECT_NEAR(x.y, 1, 1e-12);  // +X towards +Y
-  const Rotation r = Rotation::FromYawPitchRoll(31, -12, 7);
-  EXPECT_LT(r.OrthonormalityError(), 1e-14);
-  EXPECT_LT((r * r.Inverse()).Angle(), 1e-7);
-}
-
 TEST(SphereView, OrthographicMatchesTheSyntheticSphereLayout) {
   const int res = 96;
   SphereView v;

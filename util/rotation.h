@@ -61,6 +61,17 @@ struct Rotation {
     Z.m = {{{cr, -sr, 0}, {sr, cr, 0}, {0, 0, 1}}};
     return Y * X * Z;
   }
+  // The angles FromYawPitchRoll takes, degrees: pitch in [−90, 90], yaw and
+  // roll in (−180, 180]. R's middle row is (cos p sin r, cos p cos r, −sin p)
+  // and its last column (sin y cos p, −sin p, cos y cos p). At pitch ±90° only
+  // yaw − roll (or yaw + roll) is defined: roll is then 0.
+  std::array<double, 3> ToYawPitchRoll() const {
+    const double d = 180 / kPi;
+    // (+ 0.0 turns a −0 into 0, so that printed angles do not read "-0.00".)
+    const double pitch = std::asin(std::clamp(-m[1][2], -1.0, 1.0)) + 0.0;
+    if (std::abs(m[1][2]) > 1 - 1e-12) return {std::atan2(-m[2][0], m[0][0]) * d + 0.0, pitch * d, 0.0};
+    return {std::atan2(m[0][2], m[2][2]) * d + 0.0, pitch * d, std::atan2(m[1][0], m[1][1]) * d + 0.0};
+  }
 };
 
 }  // namespace brdfshot
