@@ -134,15 +134,15 @@ int SynthCaptureMain(int argc, char** argv) {
   std::string ball_circle;  // where the ball is in ball.exr (the user marks it on a real one)
   if (mirror_ball > 0) {
     // The lighting as the camera sees it, L_cam(d) = L_probe(R d), in a ball
-    // framed by a black border. Its circle goes into capture.mk, as a user
-    // would mark it: a mirror ball's rim need not stand out from its surround.
-    const cv::Mat ball = RenderMirrorBall(probe.Rotated(shot.camera_to_probe), mirror_ball);
-    const int pad = std::max(8, mirror_ball / 10);
-    cv::Mat framed;
-    cv::copyMakeBorder(ball, framed, pad, pad, pad, pad, cv::BORDER_CONSTANT, cv::Scalar::all(0));
-    WriteExr((dir / "ball.exr").string(), framed);
-    ball_circle = std::to_string(pad + mirror_ball / 2.0) + "," + std::to_string(pad + mirror_ball / 2.0) + "," +
-                  std::to_string(mirror_ball / 2.0);
+    // framed by a black border, shot with the capture's lens (perspective) on
+    // its optical axis. Its circle goes into capture.mk, as a user would mark
+    // it: a mirror ball's rim need not stand out from its surround.
+    const int pad = std::max(8, mirror_ball / 10), side = mirror_ball + 2 * pad;
+    const double r = mirror_ball / 2.0, c = side / 2.0;
+    const BallCamera lens = BallCamera::Perspective(side, side, shot.focal_px, {c, c}, Vec3(0, 0, -1),
+                                                    std::atan(r / shot.focal_px));
+    WriteExr((dir / "ball.exr").string(), RenderMirrorBall(probe.Rotated(shot.camera_to_probe), lens));
+    ball_circle = std::to_string(c) + "," + std::to_string(c) + "," + std::to_string(r);
   }
   WriteExr((dir / "truth" / "photo.exr").string(), photo.radiance);
   WriteExr((dir / "truth" / "probe.exr").string(), pano.rgb());
@@ -166,10 +166,11 @@ int SynthCaptureMain(int argc, char** argv) {
       << "FOCAL_PX     = " << shot.focal_px << "\n"
       << "ROTATE       = " << rotate << "\n"
       << (mirror_ball > 0 ? "# The pipeline estimates the rotation from this mirror-ball photo (ROTATE, the\n"
-                            "# truth, is then used only by PERFECT=1 runs).\nBALL_FILE    = ball.exr\nBALL_CIRCLE  = " +
-                                ball_circle + "\n"
-                          : "")
-      << "PROBE_LAYOUT = latlong\n"
+                            "# truth, is then used only by PERFECT=1 runs); it was shot with the photo's lens.\n"
+                            "BALL_FILE    = ball.exr\nBALL_CIRCLE  = " + ball_circle + "\n"
+                          : "");
+    if (mirror_ball > 0) o << "BALL_FOCAL_PX = " << shot.focal_px << "\n";
+    o << "PROBE_LAYOUT = latlong\n"
       << "# Synthetic only: the true material, for the report's error against the truth.\n"
       << "TRUTH        = " << truth_args << "\n";
   });
