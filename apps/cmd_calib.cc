@@ -42,7 +42,7 @@ UnwrappedBall UnwrapBallPhoto(const std::string& path, const BallLocation& where
                               const MirrorBallOptions& ball, nlohmann::json* j) {
   const cv::Mat img = ReadHdrImage(path);
   SphereDetectOptions detect;
-  detect.focal_px = FocalLengthPx(where.focal_px, where.focal_35mm, img.size());
+  detect.focal_px = FocalLengthPx(where.focal_px, where.focal_35mm, img.size(), "ball-");
   const cv::Point2d principal(img.cols / 2.0, img.rows / 2.0);
   Circle c;
   SphereCone cone;

@@ -1,5 +1,7 @@
 #include "apps/common_options.h"
 
+#include <cmath>
+
 #include <filesystem>
 #include <sstream>
 
@@ -86,7 +88,11 @@ void QualityArgs::Add(po::options_description& d) {
       ("brdf-supersample", po::value(&q.brdf_supersample)->default_value(q.brdf_supersample), "table reads per sample cell along sqrt(theta_h) (0: auto)");
 }
 
-double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo) {
+double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo, const std::string& prefix) {
+  if (!(focal_px >= 0 && std::isfinite(focal_px)))
+    throw Error("--" + prefix + "focal-px must be a focal length in pixels, or 0 for orthographic");
+  if (!(focal_35mm >= 0 && std::isfinite(focal_35mm)))
+    throw Error("--" + prefix + "focal-35mm must be a focal length in mm, or 0");
   return focal_35mm > 0 ? focal_35mm / 36.0 * std::max(photo.width, photo.height) : focal_px;
 }
 

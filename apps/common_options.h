@@ -30,8 +30,10 @@ std::vector<double> ParseNumberList(const std::string& text, size_t count, const
 
 // A focal length in pixels from a 35 mm-equivalent one (EXIF
 // FocalLengthIn35mmFilm: the 36 mm side of full frame maps to the photo's
-// longer side), or `focal_px` itself when `focal_35mm` is not positive.
-double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo);
+// longer side), or `focal_px` itself when `focal_35mm` is 0. The options are
+// --<prefix>focal-px and --<prefix>focal-35mm: Error naming them when negative
+// or not finite.
+double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo, const std::string& prefix = "");
 
 struct QualityArgs {
   RenderQuality q;

@@ -90,6 +90,8 @@ awk -v e="$be" 'BEGIN{exit !(e != "" && e < 1e-3)}' && pass=$((pass+1)) || { ech
 "$B" calib --probe "$T/padded.exr" --layout mirrorball --ball-circle 52,52,40 --ball-focal-px 200 --width 64 -o "$T/ball-s.exr" >/dev/null
 be=$("$B" compare "$T/ball-o.exr" "$T/ball-s.exr" | sed -n 's/relative RMSE \([0-9.]*\).*/\1/p')
 awk -v e="$be" 'BEGIN{exit !(e != "" && e > 0.05)}' && pass=$((pass+1)) || { echo "FAIL short-lens ball same as orthographic: '$be'"; fail=$((fail+1)); }
+check calib-ball-focal 1 "--ball-focal-px must be a focal length" -- "$B" calib --probe "$T/padded.exr" --layout mirrorball --ball-focal-px -5 -o "$T/pc5.exr"
+check normals-focal 1 "--focal-px must be a focal length" -- "$B" normals "$T/padded.exr" --focal-px -5 -o "$T/pc5.json"
 check calib-ball-circle 1 "bad --ball-circle" -- "$B" calib --probe "$PROBE" --rotate-from-ball "$T/padded.exr" --ball-circle 50,50 -o "$T/pc5.exr"
 check calib-ball-both 1 "--ball-circle is ambiguous" -- "$B" calib --probe "$T/padded.exr" --layout mirrorball --rotate-from-ball "$T/padded.exr" --ball-circle 50,50,30 -o "$T/pc5.exr"
 # From exposure metadata: one merge against itself is scale 1; half a pair is an error.
