@@ -2,6 +2,7 @@
 
 #include <libraw/libraw.h>
 
+#include <filesystem>
 #include <memory>
 
 #include "util/check.h"
@@ -21,6 +22,18 @@ struct Recycle {
   LibRaw* raw;
   ~Recycle() { raw->recycle(); }
 };
+
+// LibRaw reports corrupt sensor data through this callback (by default it
+// prints "data corrupted at N" and goes on, filling the frame with garbage):
+// recorded here, it fails the read instead.
+void RecordDataError(void* data, const char* /*file*/, const int offset) {
+  int* first = static_cast<int*>(data);
+  if (*first < 0) *first = offset;
+}
+
+// More sensor pixels than this per byte of file cannot be real data, however
+// compressed (lossless RAW is ≥ 1 byte per pixel): a corrupt header.
+constexpr double kMaxPixelsPerByte = 64;
 }  // namespace
 
 RawFrame ReadRaw(const std::string& path, const std::array<double, 3>* wb) {
@@ -29,8 +42,19 @@ RawFrame ReadRaw(const std::string& path, const std::array<double, 3>* wb) {
   auto check = [&](int rc, const char* what) {
     if (rc != LIBRAW_SUCCESS) throw FileError(path, std::string(what) + ": " + libraw_strerror(rc));
   };
+  int corrupt_at = -1;
+  raw->set_dataerror_handler(RecordDataError, &corrupt_at);
   check(raw->open_file(path.c_str()), "cannot open RAW");
+  const auto& sizes = raw->imgdata.sizes;
+  const double pixels = double(sizes.raw_width) * sizes.raw_height;
+  std::error_code ec;
+  const auto file_bytes = std::filesystem::file_size(path, ec);
+  if (!ec && pixels > kMaxPixelsPerByte * double(file_bytes))
+    throw FileError(path, "declares a " + std::to_string(sizes.raw_width) + "x" + std::to_string(sizes.raw_height) +
+                              " sensor but holds " + std::to_string(file_bytes) + " bytes (truncated or corrupt)");
   check(raw->unpack(), "cannot unpack RAW");
+  if (corrupt_at >= 0)
+    throw FileError(path, "RAW data corrupted at byte " + std::to_string(corrupt_at) + " (truncated or damaged file)");
   auto& p = raw->imgdata.params;
   p.gamm[0] = p.gamm[1] = 1.0;  // linear
   p.no_auto_bright = 1;
@@ -45,6 +69,8 @@ RawFrame ReadRaw(const std::string& path, const std::array<double, 3>* wb) {
     for (float& m : p.user_mul) m = 0;  // a previous file's --wb must not carry over
   }
   check(raw->dcraw_process(), "cannot process RAW");
+  if (corrupt_at >= 0)
+    throw FileError(path, "RAW data corrupted at byte " + std::to_string(corrupt_at) + " (truncated or damaged file)");
   int err = 0;
   libraw_processed_image_t* img = raw->dcraw_make_mem_image(&err);
   if (!img) check(err, "cannot make image");
