@@ -82,6 +82,25 @@ UnwrappedBall UnwrapBallPhoto(const std::string& path, const BallLocation& where
                            {"half_angle_rad", cone.half_angle}};
   return u;
 }
+
+// --rotate-matrix: nine numbers, row-major. Printed matrices carry 4–6 digits,
+// so RᵀR may miss I by that much (then the rows are re-orthonormalised); a
+// scale, a shear or a mirror is an error.
+Rotation ParseRotationMatrix(const std::string& text) {
+  const std::vector<double> v = ParseNumberList(text, 9, "--rotate-matrix", "r00,r01,...,r22 row-major");
+  const Vec3 r0(v[0], v[1], v[2]), r1(v[3], v[4], v[5]), r2(v[6], v[7], v[8]);
+  Rotation given;
+  for (int i = 0; i < 9; ++i) given.m[i / 3][i % 3] = v[i];
+  const double det = Dot(r0, Cross(r1, r2));
+  if (given.OrthonormalityError() > 1e-3 || det < 0)
+    throw Error("--rotate-matrix " + text + " is not a rotation (RᵀR differs from I by " +
+                std::to_string(given.OrthonormalityError()) + ", det " + std::to_string(det) + ")");
+  // Gram–Schmidt on the rows; the third is their cross product (det +1).
+  const Vec3 x = Normalize(r0), y = Normalize(r1 - Dot(r1, x) * x), z = Cross(x, y);
+  Rotation r;
+  r.m = {{{x.x, x.y, x.z}, {y.x, y.y, y.z}, {z.x, z.y, z.z}}};
+  return r;
+}
 }  // namespace
 
 int CalibMain(int argc, char** argv) {
@@ -142,14 +161,7 @@ int CalibMain(int argc, char** argv) {
     throw Error("calib: --ball-circle is ambiguous with both --layout mirrorball and --rotate-from-ball");
   Rotation rot = Rotation::FromYawPitchRoll(a[0], a[1], a[2]);
   if (!rotate_matrix.empty()) {
-    const std::vector<double> v = ParseNumberList(rotate_matrix, 9, "--rotate-matrix", "r00,r01,...,r22 row-major");
-    for (int i = 0; i < 9; ++i) rot.m[i / 3][i % 3] = v[i];
-    const double det = Dot(Vec3(rot.m[0][0], rot.m[0][1], rot.m[0][2]),
-                           Cross(Vec3(rot.m[1][0], rot.m[1][1], rot.m[1][2]), Vec3(rot.m[2][0], rot.m[2][1], rot.m[2][2])));
-    // Printed matrices carry 4–6 digits: accept that, not a scale or a mirror.
-    if (rot.OrthonormalityError() > 1e-3 || det < 0)
-      throw Error("--rotate-matrix " + rotate_matrix + " is not a rotation (RᵀR differs from I by " +
-                  std::to_string(rot.OrthonormalityError()) + ", det " + std::to_string(det) + ")");
+    rot = ParseRotationMatrix(rotate_matrix);
     const std::array<double, 3> ypr = rot.ToYawPitchRoll();
     a = {ypr[0], ypr[1], ypr[2]};
   }
