@@ -37,7 +37,7 @@ int NormalsMain(int argc, char** argv) {
   std::string photo_path, out = "sphere.json", overlay;
   SphereDetectOptions o;
   double focal_35mm = 0;
-  std::string near, merge_sidecar;
+  std::string near, merge_sidecar, normal_map_out;
   po::options_description desc("options");
   desc.add_options()
       ("photo", po::value(&photo_path)->required(), "linear HDR photo (EXR/HDR/PFM) or an 8/16-bit image")
@@ -46,6 +46,7 @@ int NormalsMain(int argc, char** argv) {
       ("merge", po::value(&merge_sidecar), "the photo's merge sidecar (from 'brdfshot merge'): its EXIF 35 mm focal length, when the camera wrote one, sets the perspective model unless --focal-px or --focal-35mm is given")
       ("near", po::value(&near), "X,Y: a pixel inside the sphere to measure, when the photo holds more than one")
       ("rays", po::value(&o.rays)->default_value(o.rays), "radial profiles for the sub-pixel rim")
+      ("normal-map-out", po::value(&normal_map_out), "also write the sphere's normals (camera frame, float EXR, 0 off the sphere): what 'remap --normal-map' reads for other shapes")
       ("overlay", po::value(&overlay), "picture of the detection (default: <out>.png)")
       ("out,o", po::value(&out)->default_value(out), "sphere file (JSON) for 'brdfshot remap'");
   po::positional_options_description pos;
@@ -108,6 +109,17 @@ int NormalsMain(int argc, char** argv) {
               {"blur_sigma_px", det.blur_sigma}, {"coarse", {det.coarse.cx, det.coarse.cy, det.coarse.r}},
               {"seconds", secs}};
   WriteFileAtomic(out, [&](std::ostream& s) { s << j.dump(1) << "\n"; });
+  if (!normal_map_out.empty()) {
+    cv::Mat map(v.height, v.width, CV_32FC3, cv::Scalar::all(0));
+    const cv::Rect box = v.Bounds(2);
+    for (int y = box.y; y < box.y + box.height; ++y)
+      for (int x = box.x; x < box.x + box.width; ++x) {
+        Vec3 normal, view;
+        if (v.Trace(x + 0.5, y + 0.5, &normal, &view))
+          map.at<cv::Vec3f>(y, x) = cv::Vec3f(float(normal.x), float(normal.y), float(normal.z));
+      }
+    WriteExr(normal_map_out, map);
+  }
   // Overlay: the photo, the rim points used (green) and the fitted rim (red).
   cv::Mat png = TonemapToBgr8(rgb, AutoExposure(rgb));
   for (const auto& p : det.edge_points) cv::circle(png, cv::Point(int(p.x), int(p.y)), 1, {0, 200, 0}, cv::FILLED);

@@ -1,9 +1,12 @@
 // brdfshot remap: the observation file the solver reads — each valid pixel's
 // radiance (probe units), normal and view direction in the probe frame.
 #include <cstdio>
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "apps/command.h"
+#include "normals/normal_map.h"
 #include "normals/observation.h"
 #include "normals/sphere_view.h"
 #include "util/atomic_file.h"
@@ -13,25 +16,73 @@
 namespace brdfshot {
 namespace po = boost::program_options;
 
+namespace {
+// A normal map and its mask as the user gives them (any convex object):
+// 8/16-bit PNG or float EXR/PFM normals, an 8-bit mask; Error naming the file.
+cv::Mat ReadNormalMap(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  cv::Mat rgb;
+  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") {
+    rgb = ReadHdrImage(path);
+  } else {
+    const cv::Mat bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
+    if (bgr.empty()) throw FileError(path, "cannot decode normal map");
+    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  }
+  try {
+    return DecodeNormalMap(rgb);
+  } catch (const Error& e) {
+    throw FileError(path, e.what());
+  }
+}
+}  // namespace
+
 int RemapMain(int argc, char** argv) {
-  std::string photo_path, sphere_path, calib_path, unreliable_path, out = "observations.bsobs";
+  std::string photo_path, sphere_path, normal_map_path, object_mask_path, calib_path, unreliable_path,
+      out = "observations.bsobs";
   SphereMaskOptions mask;
+  NormalMapOptions map_options;
   po::options_description desc("options");
   desc.add_options()
       ("photo", po::value(&photo_path)->required(), "linear HDR photo (from 'brdfshot merge')")
-      ("sphere", po::value(&sphere_path)->required(), "sphere file (from 'brdfshot normals')")
+      ("sphere", po::value(&sphere_path), "sphere file (from 'brdfshot normals')")
+      ("normal-map", po::value(&normal_map_path), "instead of --sphere, any convex object: its normals (camera frame: x right, y up, z towards the camera) as a 8/16-bit PNG ((n + 1)/2) or a float EXR/PFM")
+      ("mask", po::value(&object_mask_path), "--normal-map's object mask (nonzero = object; default: every pixel with a unit normal)")
+      ("focal-px", po::value(&map_options.focal_px)->default_value(0), "--normal-map's camera: focal length in pixels (0: orthographic)")
+      ("erode", po::value(&map_options.erode_px)->default_value(map_options.erode_px), "--normal-map's mask shrunk by this many pixels (its edge mixes background)")
       ("calib", po::value(&calib_path), "probe calibration (from 'brdfshot calib'): rotation and scale")
       ("unreliable", po::value(&unreliable_path), "mask PNG of unreliable pixels (from 'brdfshot merge')")
       ("margin", po::value(&mask.max_angle_deg)->default_value(mask.max_angle_deg), "max angle between normal and view (deg)")
       ("rim-px", po::value(&mask.rim_margin_px)->default_value(mask.rim_margin_px), "pixels this close to the silhouette are dropped")
       ("out,o", po::value(&out)->default_value(out), "observation file");
-  if (!ParseOptions("remap", "--photo P --sphere S [--calib C] [options]", desc, argc, argv)) return 0;
+  if (!ParseOptions("remap", "--photo P (--sphere S | --normal-map N [--mask M]) [--calib C] [options]", desc, argc,
+                    argv))
+    return 0;
+  if (sphere_path.empty() == normal_map_path.empty()) throw Error("remap: give exactly one of --sphere and --normal-map");
+  if (!object_mask_path.empty() && normal_map_path.empty()) throw Error("remap: --mask goes with --normal-map");
   const cv::Mat photo = ReadHdrImage(photo_path);
-  const SphereView view = SphereView::FromJson(ReadJsonFile(sphere_path), sphere_path);
-  if (view.width != photo.cols || view.height != photo.rows)
-    throw FileError(sphere_path, "is for a " + std::to_string(view.width) + "x" + std::to_string(view.height) +
-                                     " photo, " + photo_path + " is " + std::to_string(photo.cols) + "x" +
-                                     std::to_string(photo.rows));
+  auto check_size = [&](const std::string& path, cv::Size size) {
+    if (size != photo.size())
+      throw FileError(path, "is for a " + std::to_string(size.width) + "x" + std::to_string(size.height) + " photo, " +
+                                photo_path + " is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows));
+  };
+  SphereView view;
+  cv::Mat normal_map, object_mask;
+  if (!sphere_path.empty()) {
+    view = SphereView::FromJson(ReadJsonFile(sphere_path), sphere_path);
+    check_size(sphere_path, cv::Size(view.width, view.height));
+  } else {
+    normal_map = ReadNormalMap(normal_map_path);
+    check_size(normal_map_path, normal_map.size());
+    if (!object_mask_path.empty()) {
+      object_mask = cv::imread(object_mask_path, cv::IMREAD_GRAYSCALE);
+      if (object_mask.empty()) throw FileError(object_mask_path, "cannot decode mask");
+      check_size(object_mask_path, object_mask.size());
+    }
+    if (!(map_options.focal_px >= 0)) throw Error("--focal-px must be a focal length in pixels, or 0 for orthographic");
+    if (map_options.erode_px < 0) throw Error("--erode must be 0 or more pixels");
+    map_options.max_angle_deg = mask.max_angle_deg;
+  }
   Rotation rot;
   cv::Vec3d scale(1, 1, 1);
   std::string probe_name;  // provenance only; without --calib the photo is taken as in the probe frame
@@ -57,15 +108,18 @@ int RemapMain(int argc, char** argv) {
     if (unreliable.size() != photo.size()) throw FileError(unreliable_path, "mask size differs from the photo's");
   }
   Observations obs;
-  obs.geometry = SphereViewGeometry(view, rot, mask, unreliable);
+  const std::string& geometry_path = sphere_path.empty() ? normal_map_path : sphere_path;
+  obs.geometry = sphere_path.empty() ? NormalMapGeometry(normal_map, object_mask, map_options, rot, unreliable)
+                                     : SphereViewGeometry(view, rot, mask, unreliable);
   if (obs.geometry.size() < 16)
-    throw FileError(sphere_path, "leaves " + std::to_string(obs.geometry.size()) + " usable pixels");
+    throw FileError(geometry_path, "leaves " + std::to_string(obs.geometry.size()) + " usable pixels");
   obs.rgb.resize(obs.geometry.size(), 3);
   for (size_t p = 0; p < obs.geometry.size(); ++p) {
     const cv::Vec3f v = photo.at<cv::Vec3f>(obs.geometry.y[p], obs.geometry.x[p]);
     for (int c = 0; c < 3; ++c) obs.rgb(p, c) = v[c] / scale[c];
   }
-  obs.header = {{"photo", photo_path}, {"sphere", sphere_path}, {"calib", calib_path},
+  obs.header = {{"photo", photo_path}, {"sphere", sphere_path}, {"normal_map", normal_map_path},
+                {"mask", object_mask_path}, {"calib", calib_path},
                 {"probe", probe_name}, {"unreliable", unreliable_path},
                 {"margin_deg", mask.max_angle_deg}, {"rim_px", mask.rim_margin_px}, {"scale", {scale[0], scale[1], scale[2]}},
                 {"command", CommandLine(argc, argv)}};

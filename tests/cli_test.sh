@@ -68,6 +68,16 @@ check calib-matrix-both 1 "give one of --rotate, --rotate-matrix and --rotate-fr
 check calib-bad-rotate 1 "bad --rotate" -- "$B" calib --probe "$PROBE" --rotate 10,0 -o "$T/probe2.exr"
 check calib-bad-layout 1 "unknown --layout" -- "$B" calib --probe "$PROBE" --layout cube -o "$T/probe2.exr"
 check remap 0 "pixels of" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/sphere.json" --calib "$T/probe.json" -o "$T/obs.bsobs"
+# Any convex object: a normal map instead of a sphere. The detected sphere's own
+# normal map (normals --normal-map-out) gives remap the same pixels as the sphere.
+"$B" normals "$T/padded.exr" -o "$T/nsphere.json" --normal-map-out "$T/nmap.exr" >/dev/null
+n1=$("$B" remap --photo "$T/padded.exr" --sphere "$T/nsphere.json" --rim-px 0 -o "$T/o1.bsobs" | sed -n 's/^\([0-9]*\) pixels.*/\1/p')
+n2=$("$B" remap --photo "$T/padded.exr" --normal-map "$T/nmap.exr" --erode 0 -o "$T/o2.bsobs" | sed -n 's/^\([0-9]*\) pixels.*/\1/p')
+[ -n "$n1" ] && [ "$n1" -gt 1000 ] && [ "$n1" = "$n2" ] && pass=$((pass+1)) || { echo "FAIL normal map pixels $n2 vs sphere $n1"; fail=$((fail+1)); }
+check remap-both 1 "give exactly one of --sphere and --normal-map" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/nsphere.json" --normal-map "$T/nmap.exr" -o "$T/o3.bsobs"
+check remap-badmap 1 "nsphere.json: cannot decode normal map" -- "$B" remap --photo "$T/padded.exr" --normal-map "$T/nsphere.json" -o "$T/o3.bsobs"
+check remap-mapsize 1 "is for a 256x128 photo" -- "$B" remap --photo "$T/padded.exr" --normal-map "$PROBE" -o "$T/o3.bsobs"
+[ ! -e "$T/o3.bsobs" ] && pass=$((pass+1)) || { echo "FAIL remap wrote on bad input"; fail=$((fail+1)); }
 # Radiometric scale from a reference card (here the render's sphere centre):
 # halving the card's albedo doubles the scale, and remap divides by it.
 check calib-card 0 "reference card: 16 px" -- "$B" calib --probe "$PROBE" --card "$T/padded.exr" --card-region 50,50,4,4 -o "$T/pc1.exr"
