@@ -23,7 +23,7 @@ namespace {
 // EXIF (0 when the camera did not write one, or the sidecar predates it).
 double MergeSidecarFocal35mm(const std::string& path) {
   const nlohmann::json j = ReadJsonFile(path);
-  if (!j.is_object() || j.value("format", "") != "brdfshot-merge-1")
+  if (!j.is_object() || !j.contains("format") || j["format"] != "brdfshot-merge-1")
     throw FileError(path, "not a brdfshot merge sidecar");
   if (!j.contains("focal_35mm")) return 0;
   const nlohmann::json& f = j["focal_35mm"];

@@ -131,6 +131,8 @@ grep -q '"focal_35mm": 54.0' "$T/fp.json" && pass=$((pass+1)) || { echo "FAIL me
 check normals-exif-focal 0 "(perspective, f 480 px from the EXIF 35 mm focal length in $T/fp.json)" -- "$B" normals "$T/fp.exr" --merge "$T/fp.json" -o "$T/fs.json"
 c=$(sed -n 's/.*centre (\([0-9.]*\), \([0-9.]*\)).*/\1 \2/p' <<<"$out")
 awk -v c="$c" 'BEGIN{split(c,a," "); exit !((a[1]-176.0)^2+(a[2]-110.4)^2 < 0.09)}' && pass=$((pass+1)) || { echo "FAIL EXIF-focal centre '$c', truth 176.0 110.4"; fail=$((fail+1)); }
+printf '{"format": 5}' > "$T/fmt5.json"
+check normals-merge-type 1 "fmt5.json: not a brdfshot merge sidecar" -- "$B" normals "$T/fp.exr" --merge "$T/fmt5.json" -o "$T/fs2.json"
 check normals-merge-bad 1 "fs.json: not a brdfshot merge sidecar" -- "$B" normals "$T/fp.exr" --merge "$T/fs.json" -o "$T/fs2.json"
 # synth-capture and report: help, bad options, bad folders.
 check synth-help 0 "--format" -- "$B" synth-capture --help
