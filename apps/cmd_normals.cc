@@ -92,6 +92,10 @@ int NormalsMain(int argc, char** argv) {
                  y = det.circle.cy + det.circle.r * std::sin(a);
     outside += x < 0 || y < 0 || x > rgb.cols || y > rgb.rows;
   }
+  if (det.rim_in_shadow)
+    std::fprintf(stderr, "warning: %s: part of the sphere's rim is in shadow; found from log-luminance edges, "
+                 "expect ~0.5 px instead of ~0.1 px (a photo lit from the camera's side measures it better)\n",
+                 photo_path.c_str());
   if (outside > 0)
     std::fprintf(stderr, "warning: %s: the sphere is cut by the image border (%d %% of its rim outside); "
                  "the fit uses the visible rim\n", photo_path.c_str(), (outside * 100 + 359) / 360);
@@ -106,6 +110,7 @@ int NormalsMain(int argc, char** argv) {
   nlohmann::json j = v.ToJson();
   j["photo"] = photo_path;
   j["fit"] = {{"edge_points", det.quality.points}, {"inliers", det.quality.inliers}, {"rms_px", det.quality.rms_px},
+              {"rim_in_shadow", det.rim_in_shadow},
               {"blur_sigma_px", det.blur_sigma}, {"coarse", {det.coarse.cx, det.coarse.cy, det.coarse.r}},
               {"seconds", secs}};
   WriteFileAtomic(out, [&](std::ostream& s) { s << j.dump(1) << "\n"; });

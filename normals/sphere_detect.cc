@@ -37,7 +37,7 @@ constexpr double kMaxRimMisfit = 4.0;
 }  // namespace
 
 std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
-                                          double r_hi, int rays, double* rim_blur) {
+                                          double r_hi, int rays, double* rim_blur, bool log_pick) {
   BRDFSHOT_CHECK((image.type() == CV_32F || image.type() == CV_32FC3) && rays > 0 && r_hi > r_lo && r_lo >= 0);
   const double step = 0.25;  // pixels along the ray
   const int n = static_cast<int>((r_hi - r_lo) / step) + 1;
@@ -60,6 +60,15 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
   // piecewise linear, and their raw differences would lock onto pixel edges.
   cv::GaussianBlur(prof, prof, cv::Size(9, 1), 2.0, 0, cv::BORDER_REPLICATE);
   std::vector<double> strength(rays, 0.0), where(rays, -1.0);
+  // Log picks: the samples floored at 1 % of their 99th percentile, as
+  // LogLuminance does, so a black background's noise makes no edges.
+  float floor = 0;
+  if (log_pick) {
+    std::vector<float> all(prof.begin<float>(), prof.end<float>());
+    std::nth_element(all.begin(), all.begin() + all.size() * 99 / 100, all.end());
+    floor = std::max(1e-12f, 0.01f * all[all.size() * 99 / 100]);
+  }
+  std::vector<double> log_p(log_pick ? n : 0);
   for (int k = 0; k < rays; ++k) {
     // A ray whose band leaves the picture sees the border, not the rim.
     const float ex = mapx.at<float>(k, n - 1), ey = mapy.at<float>(k, n - 1);
@@ -67,9 +76,19 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
     const float* p = prof.ptr<float>(k);
     int best = -1;
     double best_d = 0;
-    for (int i = 2; i + 2 < n; ++i) {
-      const double d = std::abs(p[i + 1] - p[i - 1]);
-      if (d > best_d) best_d = d, best = i;
+    if (log_pick) {
+      for (int i = 0; i < n; ++i) log_p[i] = std::log(std::max(p[i], floor));
+      double best_log = 0;
+      for (int i = 2; i + 2 < n; ++i) {
+        const double d = std::abs(log_p[i + 1] - log_p[i - 1]);
+        if (d > best_log) best_log = d, best = i;
+      }
+      if (best >= 0) best_d = std::abs(p[best + 1] - p[best - 1]);  // strength stays linear
+    } else {
+      for (int i = 2; i + 2 < n; ++i) {
+        const double d = std::abs(p[i + 1] - p[i - 1]);
+        if (d > best_d) best_d = d, best = i;
+      }
     }
     if (best < 3 || best > n - 4) continue;  // at the band's end: not a peak
     const double dm = std::abs(p[best] - p[best - 2]), dp = std::abs(p[best + 2] - p[best]);
@@ -174,7 +193,7 @@ struct RankedCircle {
 // Candidates whose rim is at least half closed, the best first. A sphere is
 // usually the largest closed rim in the picture: they are ranked by the rim's
 // supported length, not its fraction (a small disc is as round).
-std::vector<RankedCircle> RankByRimSupport(const cv::Mat& lin, const std::vector<Circle>& cands,
+std::vector<RankedCircle> RankByRimSupport(const cv::Mat& lin, const std::vector<Circle>& cands, bool log_pick,
                                            double* best_support) {
   std::vector<RankedCircle> out;
   *best_support = 0;
@@ -182,7 +201,7 @@ std::vector<RankedCircle> RankByRimSupport(const cv::Mat& lin, const std::vector
     Circle c = cands[i];
     const double band = std::max(4.0, 0.06 * c.r);
     const std::vector<cv::Point2d> pts =
-        RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90);
+        RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90, nullptr, log_pick);
     // Hough's circle can be a band's width off (the coarser scale's are):
     // the rim is counted around a robust fit to the edges it found, when that
     // fit stays near the candidate.
@@ -223,7 +242,7 @@ bool RefineRim(const cv::Mat& lin, const Circle& coarse, const SphereDetectOptio
     const double band = pass == 0 ? std::max(8.0, 0.12 * c.r) : pass == 1 ? std::max(6.0, 0.03 * c.r) + ellipse
                                                                            : 14.0 + ellipse;
     det->edge_points = RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - band), c.r + band, o.rays,
-                                        pass == 2 ? &det->blur_sigma : nullptr);
+                                        pass == 2 ? &det->blur_sigma : nullptr, o.log_edges);
     if (det->perspective) {
       det->cone = FitConeRobust(det->edge_points, o.focal_px, det->principal, &det->quality);
       c = ApparentCircle(det->cone, o.focal_px, det->principal);
@@ -292,9 +311,8 @@ bool ShadedLikeASphere(const cv::Mat& lin, const Circle& c) {
   return std::sqrt(res.dot(res) / n) < kMaxShadingResidual * mean;
 }
 
-}  // namespace
 
-SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o) {
+SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOptions& o) {
   if (rgb_in.channels() != 3) throw Error("sphere detection wants an RGB image");
   cv::Mat lin;
   if (rgb_in.depth() == CV_32F) {
@@ -307,7 +325,7 @@ SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o
   // blurred step's steepest point is the step. In log it shifts towards the
   // darker side by a fraction of the blur (0.3–0.5 px measured here).
   double best_support = 0;
-  std::vector<RankedCircle> ranked = RankByRimSupport(lin, cands, &best_support);
+  std::vector<RankedCircle> ranked = RankByRimSupport(lin, cands, o.log_edges, &best_support);
   const bool picked = o.near.x >= 0;
   if (picked) {
     // The user's point chooses among the spheres: only circles around it.
@@ -318,7 +336,7 @@ SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o
                  ranked.end());
   }
   if (ranked.empty())
-    throw Error("no sphere found (" + std::to_string(cands.size()) + " circle candidates" +
+    throw NoSphereFound("no sphere found (" + std::to_string(cands.size()) + " circle candidates" +
                 (picked ? ", none around the given point" : "") + ", best rim support " +
                 std::to_string(static_cast<int>(100 * best_support)) + " %, need 50 %)");
   // The sub-pixel stage on a candidate; false when its rim fails the test or
@@ -349,7 +367,7 @@ SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o
     }
   }
   if (!found)
-    throw Error("no sphere found: the best circle's rim fits to " + std::to_string(best_rim.quality.rms_px) +
+    throw NoSphereFound("no sphere found: the best circle's rim fits to " + std::to_string(best_rim.quality.rms_px) +
                 " px rms over " + std::to_string(best_rim.quality.inliers) + " of " + std::to_string(o.rays) +
                 " rays (need ≤ 1 px over 30 %)" +
                 (best_rim.perspective ? "" : "; if the sphere is seen in perspective, give the focal length"));
@@ -376,6 +394,30 @@ SphereDetection DetectSphere(const cv::Mat& rgb_in, const SphereDetectOptions& o
     throw Error(msg);
   }
   return det;
+}
+
+}  // namespace
+
+SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
+  try {
+    return DetectSphereOnce(rgb, o);
+  } catch (const NoSphereFound& first) {
+    if (o.log_edges) throw;
+    // A rim partly in attached shadow (a ball lit from the side, as in
+    // photometric stereo): there the steepest linear step is the terminator
+    // inside the ball, not the silhouette, while in log luminance the
+    // silhouette's step is the steeper. Log edges lie 0.3–0.5 px towards the
+    // darker side, so they are the fallback, not the default.
+    SphereDetectOptions log_options = o;
+    log_options.log_edges = true;
+    try {
+      SphereDetection d = DetectSphereOnce(rgb, log_options);
+      d.rim_in_shadow = true;
+      return d;
+    } catch (const NoSphereFound&) {
+      throw first;
+    }
+  }
 }
 
 }  // namespace brdfshot
