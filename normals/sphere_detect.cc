@@ -34,6 +34,9 @@ cv::Mat LogLuminance(const cv::Mat& rgb) {
 namespace {
 // Rays whose rim-model misfit exceeds this many times the median are dropped.
 constexpr double kMaxRimMisfit = 4.0;
+// A linear rim fit this rough (rms, px; the test is ≤ 1 px) may be pulled by a
+// terminator: the log-edge fit is tried too. Sharp rims fit to 0.1–0.4 px.
+constexpr double kMarginalRimRms = 0.6;
 }  // namespace
 
 std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
@@ -399,24 +402,37 @@ SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOption
 }  // namespace
 
 SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
+  if (o.log_edges) return DetectSphereOnce(rgb, o);
+  // A rim partly in attached shadow (a ball lit from the side, as in
+  // photometric stereo): there the steepest linear step is the terminator
+  // inside the ball, not the silhouette, while in log luminance the
+  // silhouette's step is the steeper. Log edges lie 0.3–0.5 px towards the
+  // darker side, so they are the fallback, not the default: tried when the
+  // linear picks find no sphere or fit it only marginally, and kept when their
+  // rim fits better.
+  SphereDetectOptions log_options = o;
+  log_options.log_edges = true;
+  auto with_log_edges = [&]() {
+    SphereDetection d = DetectSphereOnce(rgb, log_options);
+    d.rim_in_shadow = true;
+    return d;
+  };
+  SphereDetection linear;
   try {
-    return DetectSphereOnce(rgb, o);
+    linear = DetectSphereOnce(rgb, o);
   } catch (const NoSphereFound& first) {
-    if (o.log_edges) throw;
-    // A rim partly in attached shadow (a ball lit from the side, as in
-    // photometric stereo): there the steepest linear step is the terminator
-    // inside the ball, not the silhouette, while in log luminance the
-    // silhouette's step is the steeper. Log edges lie 0.3–0.5 px towards the
-    // darker side, so they are the fallback, not the default.
-    SphereDetectOptions log_options = o;
-    log_options.log_edges = true;
     try {
-      SphereDetection d = DetectSphereOnce(rgb, log_options);
-      d.rim_in_shadow = true;
-      return d;
+      return with_log_edges();
     } catch (const NoSphereFound&) {
       throw first;
     }
+  }
+  if (linear.quality.rms_px <= kMarginalRimRms) return linear;
+  try {
+    const SphereDetection log = with_log_edges();
+    return log.quality.rms_px < linear.quality.rms_px ? log : linear;
+  } catch (const Error&) {
+    return linear;
   }
 }
 

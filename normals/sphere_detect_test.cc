@@ -105,9 +105,10 @@ TEST(SphereDetect, TwoSpheresAreRefusedUnlessAPointPicksOne) {
 
 // Real photos lit from the side: DiLiGenT's ball under its 96 lights (every
 // third here). Where part of the rim is in attached shadow, the linear
-// steepest step is the terminator inside the ball and the detector refused
-// 67 of 96 lights; the log-luminance fallback finds those rims. Each must lie
-// within 1 px of the sphere found in the frontally lit photo 004.
+// steepest step is the terminator inside the ball: the detector refused 67 of
+// 96 lights and put two more 1.8 px off (rim rms 0.97–0.99 px, just passing);
+// the log-luminance fallback finds those rims. Every sphere found must lie
+// within 1 px of the one found in the frontally lit photo 004.
 TEST(SphereDetect, DiligentSideLitBallsFoundThroughTheLogFallback) {
   const std::string dir = DataPath("real/diligent_ballPNG");
   if (dir.empty() || !std::filesystem::exists(dir + "/004.png")) GTEST_SKIP() << "DiLiGenT ball not found";
@@ -131,12 +132,11 @@ TEST(SphereDetect, DiligentSideLitBallsFoundThroughTheLogFallback) {
       continue;
     }
     ++found;
-    if (!d.rim_in_shadow) continue;
-    ++in_shadow;
+    in_shadow += d.rim_in_shadow;
     worst_centre = std::max(worst_centre, std::hypot(d.circle.cx - front.circle.cx, d.circle.cy - front.circle.cy));
     worst_radius = std::max(worst_radius, std::abs(d.circle.r - front.circle.r));
   }
-  std::printf("DiLiGenT: %d of %d lights found, %d through the log fallback: within %.2f px (centre), %.2f px "
+  std::printf("DiLiGenT: %d of %d lights found, %d by log edges; all within %.2f px (centre), %.2f px "
               "(radius) of light 4's sphere\n", found, tried, in_shadow, worst_centre, worst_radius);
   EXPECT_GE(found, tried * 8 / 10);
   EXPECT_GE(in_shadow, tried / 3);
