@@ -65,11 +65,11 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
   std::vector<double> strength(rays, 0.0), where(rays, -1.0);
   // Log picks: the samples floored at 1 % of their 99th percentile, as
   // LogLuminance does, so a black background's noise makes no edges.
-  float floor = 0;
+  float log_floor = 0;
   if (log_pick) {
     std::vector<float> all(prof.begin<float>(), prof.end<float>());
     std::nth_element(all.begin(), all.begin() + all.size() * 99 / 100, all.end());
-    floor = std::max(1e-12f, 0.01f * all[all.size() * 99 / 100]);
+    log_floor = std::max(1e-12f, 0.01f * all[all.size() * 99 / 100]);
   }
   std::vector<double> log_p(log_pick ? n : 0);
   for (int k = 0; k < rays; ++k) {
@@ -80,7 +80,7 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
     int best = -1;
     double best_d = 0;
     if (log_pick) {
-      for (int i = 0; i < n; ++i) log_p[i] = std::log(std::max(p[i], floor));
+      for (int i = 0; i < n; ++i) log_p[i] = std::log(std::max(p[i], log_floor));
       double best_log = 0;
       for (int i = 2; i + 2 < n; ++i) {
         const double d = std::abs(log_p[i + 1] - log_p[i - 1]);
@@ -314,7 +314,7 @@ bool ShadedLikeASphere(const cv::Mat& lin, const Circle& c) {
   return std::sqrt(res.dot(res) / n) < kMaxShadingResidual * mean;
 }
 
-
+// One detection with the given edge picks (DetectSphere runs it once or twice).
 SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOptions& o) {
   if (rgb_in.channels() != 3) throw Error("sphere detection wants an RGB image");
   cv::Mat lin;
