@@ -148,6 +148,18 @@ PrefilteredProbe::PrefilteredProbe(const LatLongProbe& probe) {
     }
     levels_.push_back(dst);
   }
+  for (const cv::Mat& m : levels_) {
+    PaddedLevel pl{m.cols, m.rows, std::vector<float>(3 * static_cast<size_t>(m.cols + 2) * (m.rows + 2))};
+    for (int pr = 0; pr < m.rows + 2; ++pr) {
+      const cv::Vec3f* src = m.ptr<cv::Vec3f>(std::clamp(pr - 1, 0, m.rows - 1));
+      float* dst = pl.rgb.data() + 3 * static_cast<size_t>(pr) * (m.cols + 2);
+      for (int pc = 0; pc < m.cols + 2; ++pc) {
+        const cv::Vec3f& t = src[(pc - 1 + m.cols) % m.cols];
+        dst[3 * pc] = t[0], dst[3 * pc + 1] = t[1], dst[3 * pc + 2] = t[2];
+      }
+    }
+    padded_.push_back(std::move(pl));
+  }
 }
 
 namespace {
@@ -228,13 +240,30 @@ void PrefilteredProbe::LookupMany(int n, const float* d, const float* omega, flo
     v[i] = FastAtan2f(std::sqrt(x * x + z * z), y) * 0.318309886f;
     lod[i] = 0.5f * FastLog2(std::max(omega[i], 1e-30f) * inv_texel);
   }
+  const int top = levels() - 1;
+  // Bilinear in one padded level, added to `out` with weight `w`. The clamps
+  // only guard against directions that are not unit vectors (NaN included).
+  auto add_bilinear = [this](int level, float uu, float vv, float w, float* out) {
+    const PaddedLevel& L = padded_[level];
+    const float x = std::min(std::max(-1.0f, uu * L.w - 0.5f), L.w - 0.5f);
+    const float y = std::min(std::max(-1.0f, vv * L.h - 0.5f), L.h - 0.5f);
+    const float xf = std::floor(x), yf = std::floor(y);
+    const float fx = x - xf, fy = y - yf;
+    const int stride = 3 * (L.w + 2);
+    const float* a = L.rgb.data() + (static_cast<int>(yf) + 1) * stride + 3 * (static_cast<int>(xf) + 1);
+    const float* b = a + stride;
+    const float w00 = w * (1 - fx) * (1 - fy), w01 = w * fx * (1 - fy), w10 = w * (1 - fx) * fy, w11 = w * fx * fy;
+    for (int k = 0; k < 3; ++k) out[k] += w00 * a[k] + w01 * a[3 + k] + w10 * b[k] + w11 * b[3 + k];
+  };
   for (int i = 0; i < n; ++i) {
-    if (omega[i] <= 0) {
-      rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = 0;
-      continue;
-    }
-    const cv::Vec3f c = Trilinear(u[i], v[i], lod[i]);
-    rgb[3 * i] = c[0], rgb[3 * i + 1] = c[1], rgb[3 * i + 2] = c[2];
+    float* out = rgb + 3 * i;
+    out[0] = out[1] = out[2] = 0;
+    if (omega[i] <= 0) continue;
+    const float l = std::min(std::max(0.0f, lod[i]), static_cast<float>(top));
+    const int l0 = std::min(static_cast<int>(l), top);
+    const float t = l - l0;
+    add_bilinear(l0, u[i], v[i], 1 - t, out);
+    if (t > 0) add_bilinear(l0 + 1, u[i], v[i], t, out);
   }
 }
 

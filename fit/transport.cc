@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "util/check.h"
+#include "util/huge_pages.h"
 
 namespace brdfshot {
 
@@ -106,13 +107,35 @@ TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLong
     const long j = std::lround(std::acos(std::min(1.0, c)) / step * K);
     t.sublevel_pixels_[std::min<long>(j, t.sublevel_pixels_.size() - 1)].push_back(static_cast<uint32_t>(p));
   }
+  // A sub-level's pixels form a ring around the view direction. In ring order,
+  // neighbours see the probe near the same mirror direction, so the fine-level
+  // probe texels one pixel reads are still in cache for the next (image order
+  // alternates between the two sides of the ring).
+  Vec3 mean_view(0, 0, 0);
+  for (const Vec3& v : g.view) mean_view = mean_view + v;
+  const Frame around = Frame::FromZ(Length(mean_view) > 1e-9 ? Normalize(mean_view) : Vec3(0, 0, 1));
+  for (std::vector<uint32_t>& px : t.sublevel_pixels_) {
+    std::vector<std::pair<double, uint32_t>> keyed;
+    keyed.reserve(px.size());
+    for (uint32_t p : px) {
+      const double azimuth = std::atan2(Dot(g.normal[p], around.y), Dot(g.normal[p], around.x));
+      keyed.push_back({std::isfinite(azimuth) ? azimuth : 0.0, p});  // NaN would break the sort's order
+    }
+    std::sort(keyed.begin(), keyed.end());
+    for (size_t i = 0; i < px.size(); ++i) px[i] = keyed[i].second;
+  }
   return t;
 }
 
 template <typename RowFn>
 std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row) const {
+  // Y is hundreds of MB: huge pages, and first touched by the threads in
+  // parallel below (see util/huge_pages.h for what 4 KB faults cost).
   std::array<MatrixXfR, 3> Y;
-  for (auto& y : Y) y.setZero(pixels(), n);
+  for (auto& y : Y) {
+    y.resize(pixels(), n);
+    AdviseHugePages(y.data(), sizeof(float) * y.size());
+  }
   const double step = quality_.level_step_deg * kPi / 180;
   const int nt = quality_.theta_samples, K = quality_.level_substeps;
   const Eigen::Index S_all = static_cast<Eigen::Index>(samples_.size());
@@ -133,6 +156,13 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
     std::vector<TablePoint> points;
     std::vector<int> active;
     std::vector<float> hs, dir, omega, weight, scratch, rgb;
+    // Per-thread products, grown as needed: a sub-level's A, M and A·M live
+    // only for one iteration, and reallocating them there costs page faults.
+    std::vector<float> a_buf, m_buf, am_buf;
+    for (auto& y : Y) {
+#pragma omp for schedule(static)
+      for (Eigen::Index p = 0; p < y.rows(); ++p) y.row(p).setZero();
+    }
     for (int l0 = 0; l0 < n_levels_ - 1; l0 += kChunk) {
       const int l1 = std::min(n_levels_ - 1, l0 + kChunk);  // levels l0..l1 inclusive
       const int first_new = l0 == 0 ? 0 : 1;
@@ -144,10 +174,14 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
       // M per level: the table averaged over each sample's cell, weighted by
       // cos θ_i dω_i (weights normalised, so a cell cut by the horizon stays
       // bounded); rows of samples below the horizon are zero.
+      // Sample-major: the levels of one sample read overlapping table rows
+      // (θ_d moves by about a bin per level), so visiting them back to back
+      // reads each row from cache rather than from the 1.7 GB table again.
+      const int n_new = l1 - l0 + 1 - first_new;
 #pragma omp for schedule(dynamic, 32)
-      for (long r = first_new * S_all; r < (l1 - l0 + 1) * S_all; ++r) {
-        const int l = static_cast<int>(r / S_all);
-        const Sample& smp = samples_[r % S_all];
+      for (long r = 0; r < n_new * S_all; ++r) {
+        const int l = first_new + static_cast<int>(r % n_new);
+        const Sample& smp = samples_[r / n_new];
         const double tl = std::min(kPi / 2, (l0 + l) * step);
         const Vec3 wo_l(std::sin(tl), 0, std::cos(tl));
         points.clear();
@@ -168,7 +202,7 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
           }
         }
         for (TablePoint& pt : points) pt.weight /= wsum;
-        row_local(points, M[l].row(r % S_all).data());
+        row_local(points, M[l].row(r / n_new).data());
       }
       // Sub-levels of this chunk (the very last level belongs to the last chunk).
       const int j_end = l1 == n_levels_ - 1 ? n_sub : l1 * K;
@@ -193,7 +227,11 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
         }
         const Eigen::Index S = static_cast<Eigen::Index>(active.size());
         if (S == 0) continue;
-        MatrixXfR Mj(S, n);
+        using MapR = Eigen::Map<MatrixXfR>;
+        const Eigen::Index P = static_cast<Eigen::Index>(px.size());
+        for (auto [buf, size] : {std::pair{&a_buf, 3 * P * S}, {&m_buf, S * n}, {&am_buf, 3 * P * n}})
+          if (static_cast<Eigen::Index>(buf->size()) < size) buf->resize(size);
+        MapR Mj(m_buf.data(), S, n), A(a_buf.data(), 3 * P, S), AM(am_buf.data(), 3 * P, n);
         for (Eigen::Index k = 0; k < S; ++k) Mj.row(k) = (1 - f) * Ma.row(active[k]) + f * Mb.row(active[k]);
         // Active samples as float arrays, for the vectorised loop below.
         hs.resize(4 * S);
@@ -205,8 +243,6 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
         const float *hx = hs.data(), *hy = hx + S, *hz = hy + S, *dw4 = hz + S;
         dir.resize(3 * S), omega.resize(S), weight.resize(S), scratch.resize(3 * S), rgb.resize(3 * S);
         // A: each pixel's lighting per sample, channel-major rows.
-        const Eigen::Index P = static_cast<Eigen::Index>(px.size());
-        MatrixXfR A(3 * P, S);
         for (Eigen::Index i = 0; i < P; ++i) {
           const size_t p = px[i];
           const Frame fr = Frame::FromZX(normal_[p], view_[p]);
@@ -233,7 +269,7 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
             for (Eigen::Index k = 0; k < S; ++k) a_row[k] = weight[k] * rgb[3 * k + c];
           }
         }
-        const MatrixXfR AM = A * Mj;
+        AM.noalias() = A * Mj;
         for (Eigen::Index i = 0; i < P; ++i)
           for (int c = 0; c < 3; ++c) Y[c].row(px[i]) = AM.row(c * P + i);
       }
