@@ -33,7 +33,7 @@ std::pair<int, int> ParseSamples(const std::string& text) {
   char x = 0;
   std::istringstream s(text);
   if (!(s >> a >> x >> b) || x != 'x' || a <= 0 || b <= 0 || a > 4096 || b > 8192)
-    throw Error("bad sample setting '" + text + "': expected THETAxPHI, e.g. 24x40");
+    throw Error("bad sample setting '" + text + "': expected THETAxPHI, e.g. 32x48");
   return {a, b};
 }
 
@@ -92,7 +92,7 @@ struct Row {
 int BenchBasisMain(int argc, char** argv) {
   DatabaseArgs db;
   std::string probe_path, spheres_arg = "64,128,256", probes_arg = "256,512,1024",
-                          qualities_arg = "8x16,12x24,16x32,24x40,32x64", ref_arg = "192x384",
+                          qualities_arg = "12x24,16x32,24x40,32x48,32x64", ref_arg = "192x384",
                           cache = "brdfshot_cache", out = "bench_basis";
   int ref_pixels = 700, repeats = 3;
   QualityArgs base_quality;
