@@ -48,6 +48,13 @@ check bench-bad 1 "bad sample setting '24-48'" -- "$B" bench-basis --qualities 2
 # The pipeline on one capture.
 check render 0 "wrote" -- "$B" render --standin demo-steel $DB --probe "$PROBE" --sphere 48 -o "$T/photo.exr"
 check basis 0 "wrote" -- "$B" basis $DB --probe "$PROBE" --sphere 48 -o "$T/b.bsbi"
+# Quality by error target: a loose target stops at the ladder's first rung and
+# says so in the cache's header; a negative one is refused, naming the option.
+check basis-target 0 "16x32" -- "$B" basis $DB --probe "$PROBE" --sphere 24 --error-target 0.5 --error-pixels 60 -o "$T/bt.bsbi"
+grep -aq '"quality_search"' "$T/bt.bsbi" && grep -aq '"reached":true' "$T/bt.bsbi" && pass=$((pass+1)) \
+  || { echo "FAIL basis-target: no quality_search with reached in the header"; fail=$((fail+1)); }
+check basis-target-bad 1 "--error-target must be" -- "$B" basis $DB --probe "$PROBE" --sphere 24 --error-target -1 -o "$T/bt2.bsbi"
+[ ! -e "$T/bt2.bsbi" ] && pass=$((pass+1)) || { echo "FAIL basis-target-bad wrote output"; fail=$((fail+1)); }
 check cluster 0 "class sizes" -- "$B" cluster $DB -o "$T/c.json"
 check fit 0 "chosen class" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --preview-probes "$PROBE" -o "$T/fit"
 # The fitted BRDF relit must match the truth: the material is one of the bases.
