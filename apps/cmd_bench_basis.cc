@@ -213,16 +213,24 @@ int BenchBasisMain(int argc, char** argv) {
   std::printf("\n%s", md.str().c_str());
   WriteFileAtomic(out + "/bench_basis.md", [&](std::ostream& o) { o << md.str(); });
   WriteFileAtomic(out + "/bench_basis.csv", [&](std::ostream& o) { o << csv.str(); });
+  // Colour = sphere size, marker = probe width: nine series stay apart. Each
+  // line runs through the qualities in the order given.
   std::vector<XYSeries> series;
   for (const Row& r : rows) {
-    const std::string name = "probe " + std::to_string(r.probe_width) + ", sphere " + std::to_string(r.sphere);
-    if (series.empty() || series.back().name != name) series.push_back({name, {}, {}});
+    const std::string name = "probe " + std::to_string(r.probe_width) + ", sphere " + std::to_string(r.sphere) + " px";
+    if (series.empty() || series.back().name != name) {
+      XYSeries s{name, {}, {}};
+      s.color = ClassColor(static_cast<int>(std::find(spheres.begin(), spheres.end(), r.sphere) - spheres.begin()));
+      s.marker = static_cast<int>(std::find(widths.begin(), widths.end(), r.probe_width) - widths.begin()) % 3;
+      series.push_back(s);
+    }
     series.back().x.push_back(r.build_s + r.apply_s);
     series.back().y.push_back(std::max(r.worst, 1e-6));
   }
   WritePng(out + "/bench_basis.png",
-           LogLogPlot(series, "basis images: time vs worst relative RMSE (reference materials, " + base.label + ")",
-                      "seconds (build + apply, all bases)", "worst rel. RMSE", 0.01));
+           LogLogPlot(series, "basis images: time against error (" + base.label + ")",
+                      "seconds (build + apply, all bases); points along a line: " + qualities_arg,
+                      "worst rel. RMSE over the reference materials", 0.01, "goal 1 %"));
   std::printf("wrote %s/bench_basis.{md,csv,png}\n", out.c_str());
   return 0;
 }

@@ -122,8 +122,24 @@ void LogRange(const std::vector<double>& v, double* lo, double* hi) {
 }
 }  // namespace
 
+namespace {
+void Marker(cv::Mat& img, cv::Point p, int kind, const cv::Scalar& col) {
+  if (kind == 1) {
+    cv::rectangle(img, p - cv::Point(3, 3), p + cv::Point(3, 3), col, cv::FILLED, cv::LINE_AA);
+  } else if (kind == 2) {
+    const std::vector<cv::Point> tri = {p + cv::Point(0, -5), p + cv::Point(-4, 3), p + cv::Point(4, 3)};
+    cv::fillConvexPoly(img, tri, col, cv::LINE_AA);
+  } else {
+    cv::circle(img, p, 3, col, cv::FILLED, cv::LINE_AA);
+  }
+}
+}  // namespace
+
 cv::Mat LogLogPlot(const std::vector<XYSeries>& series, const std::string& title, const std::string& xlabel,
-                   const std::string& ylabel, double goal_y) {
+                   const std::string& ylabel, double goal_y, const std::string& goal_label) {
+  // Plot area [left, right] × [top, bottom]; the legend column sits right of it
+  // so that it never hides data or the axis labels.
+  const int left = 80, right = 760, top = 70, bottom = 530, legend_x = 780;
   cv::Mat img(600, 1000, CV_8UC3, cv::Scalar::all(255));
   Frame(img, title);
   std::vector<double> xs, ys;
@@ -133,34 +149,44 @@ cv::Mat LogLogPlot(const std::vector<XYSeries>& series, const std::string& title
   LogRange(xs, &x0, &x1);
   LogRange(ys, &y0, &y1);
   auto px = [&](double v) {
-    return static_cast<int>(80 + (std::log10(std::max(v, x0)) - std::log10(x0)) / (std::log10(x1) - std::log10(x0)) * 880);
+    return static_cast<int>(left + (std::log10(std::max(v, x0)) - std::log10(x0)) / (std::log10(x1) - std::log10(x0)) *
+                                       (right - left));
   };
   auto py = [&](double v) {
-    return static_cast<int>(530 - (std::log10(std::max(v, y0)) - std::log10(y0)) / (std::log10(y1) - std::log10(y0)) * 460);
+    return static_cast<int>(bottom - (std::log10(std::max(v, y0)) - std::log10(y0)) / (std::log10(y1) - std::log10(y0)) *
+                                         (bottom - top));
   };
   char buf[32];
   for (double d = y0; d <= y1 * 1.01; d *= 10) {
-    cv::line(img, {80, py(d)}, {960, py(d)}, {220, 220, 220});
+    cv::line(img, {left, py(d)}, {right, py(d)}, {220, 220, 220});
     std::snprintf(buf, sizeof buf, "%g", d);
     cv::putText(img, buf, {5, py(d) + 4}, cv::FONT_HERSHEY_PLAIN, 0.9, {0, 0, 0});
   }
   for (double d = x0; d <= x1 * 1.01; d *= 10) {
-    cv::line(img, {px(d), 70}, {px(d), 530}, {220, 220, 220});
+    cv::line(img, {px(d), top}, {px(d), bottom}, {220, 220, 220});
     std::snprintf(buf, sizeof buf, "%g", d);
-    cv::putText(img, buf, {px(d) - 10, 550}, cv::FONT_HERSHEY_PLAIN, 0.9, {0, 0, 0});
+    cv::putText(img, buf, {px(d) - 10, bottom + 20}, cv::FONT_HERSHEY_PLAIN, 0.9, {0, 0, 0});
   }
-  if (goal_y > 0) cv::line(img, {80, py(goal_y)}, {960, py(goal_y)}, {0, 0, 200}, 1, cv::LINE_AA);
-  cv::putText(img, xlabel, {420, 585}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
-  cv::putText(img, ylabel, {5, 60}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
+  if (goal_y > 0) {
+    cv::line(img, {left, py(goal_y)}, {right, py(goal_y)}, {0, 0, 200}, 1, cv::LINE_AA);
+    if (!goal_label.empty())
+      cv::putText(img, goal_label, {right - 8 * static_cast<int>(goal_label.size()), py(goal_y) - 5},
+                  cv::FONT_HERSHEY_PLAIN, 0.9, {0, 0, 200}, 1, cv::LINE_AA);
+  }
+  cv::putText(img, xlabel, {(left + right) / 2 - 4 * static_cast<int>(xlabel.size()), bottom + 50},
+              cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
+  cv::putText(img, ylabel, {5, top - 12}, cv::FONT_HERSHEY_PLAIN, 1.0, {0, 0, 0});
   for (size_t s = 0; s < series.size(); ++s) {
     const cv::Scalar col = series[s].color[0] >= 0 ? series[s].color : ClassColor(static_cast<int>(s));
     const auto& S = series[s];
     for (size_t i = 0; i < S.x.size(); ++i) {
-      cv::circle(img, {px(S.x[i]), py(S.y[i])}, 3, col, cv::FILLED, cv::LINE_AA);
+      Marker(img, {px(S.x[i]), py(S.y[i])}, S.marker, col);
       if (i > 0) cv::line(img, {px(S.x[i - 1]), py(S.y[i - 1])}, {px(S.x[i]), py(S.y[i])}, col, 1, cv::LINE_AA);
     }
-    cv::putText(img, S.name, {100 + 220 * static_cast<int>(s % 4), 40 + 16 * static_cast<int>(s / 4)},
-                cv::FONT_HERSHEY_SIMPLEX, 0.45, col, 1, cv::LINE_AA);
+    const int ly = top + 8 + 20 * static_cast<int>(s);
+    cv::line(img, {legend_x, ly}, {legend_x + 24, ly}, col, 1, cv::LINE_AA);
+    Marker(img, {legend_x + 12, ly}, S.marker, col);
+    cv::putText(img, S.name, {legend_x + 32, ly + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.42, col, 1, cv::LINE_AA);
   }
   return img;
 }

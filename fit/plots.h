@@ -32,9 +32,12 @@ struct XYSeries {
   std::string name;
   std::vector<double> x, y;
   cv::Scalar color = cv::Scalar(-1, 0, 0);  // BGR; negative: the palette's k-th colour
+  int marker = 0;                           // 0 disc, 1 square, 2 triangle
 };
+// Log-log axes with one polyline per series, the legend in a column on the
+// right, and `goal_y` (if > 0) as a red line labelled `goal_label`.
 cv::Mat LogLogPlot(const std::vector<XYSeries>& series, const std::string& title, const std::string& xlabel,
-                   const std::string& ylabel, double goal_y = 0);
+                   const std::string& ylabel, double goal_y = 0, const std::string& goal_label = "");
 
 cv::Scalar ClassColor(int k);
 
