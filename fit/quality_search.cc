@@ -42,7 +42,7 @@ std::vector<RenderQuality> QualityLadder(const RenderQuality& base, int probe_wi
     ladder.push_back(q);
   };
   // 16 × 32 and 24 × 40 are within a few per cent; 32 × 48 is the default;
-  // 32 × 64 and 48 × 96 cost 1.2× and ~3× it (bench-basis).
+  // 32 × 64 and 48 × 96 cost 1.1× and 2.5× it at 256² (bench-basis).
   for (const auto& [t, p] : {std::pair{16, 32}, {24, 40}, {32, 48}, {32, 64}}) add(t, p, base.probe_width);
   const bool resampled = base.probe_width > 0 && base.probe_width < probe_width;
   if (resampled)

@@ -51,6 +51,9 @@ struct RenderQuality {
   // within 1 % of the converged reference for a 256² sphere under the forest
   // and sunset probes at 512 × 256 (README, `brdfshot bench-basis`); 30 along
   // √θ_h is markedly worse than 28 or 32 on both probes, so do not interpolate.
+  // Smaller spheres and 1024-wide probes are at 1.2–1.8 % (a grazing-pixel
+  // bias, not the sample count): `basis --error-target` measures a scene and
+  // picks a finer setting where one helps (fit/quality_search.h).
   int theta_samples = 32;  // along √θ_h
   int phi_samples = 48;    // along φ_h, per ring: at least this, or 4·theta·√θ_h where that is more
   // 0: the probe as given. Resampling a 1024-wide probe to 512 saves ~6 % of
