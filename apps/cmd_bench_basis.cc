@@ -124,17 +124,11 @@ int BenchBasisMain(int argc, char** argv) {
 
   const LatLongProbe full = LatLongProbe::Read(probe_path);
   const BasisDatabase base = LoadDatabase(db.ToOptions(true));
-  std::vector<int> ref_mats;
-  std::vector<std::string> ref_class;
-  for (const std::string& name : ReferenceMaterialNames()) {
-    const auto it = std::find(base.materials.begin(), base.materials.end(), name);
-    if (it == base.materials.end()) continue;
-    ref_mats.push_back(static_cast<int>(it - base.materials.begin()));
-    ref_class.push_back(ReferenceClassOf(name));
-  }
+  const std::vector<int> ref_mats = ReferenceMaterialIndices(base);
   if (ref_mats.empty()) throw Error("database '" + base.label + "' has none of the reference materials (MERL names)");
-  MatrixXfR Bref(base.B.rows(), 3 * ref_mats.size());
-  for (size_t k = 0; k < ref_mats.size(); ++k) Bref.middleCols(3 * k, 3) = base.B.middleCols(3 * ref_mats[k], 3);
+  std::vector<std::string> ref_class;
+  for (int m : ref_mats) ref_class.push_back(ReferenceClassOf(base.materials[m]));
+  const MatrixXfR Bref = MaterialColumns(base, ref_mats);
 
   std::vector<Row> rows;
   for (int width : widths) {
@@ -168,15 +162,8 @@ int BenchBasisMain(int argc, char** argv) {
         }
         Row row{sphere, width, std::to_string(nt) + "x" + std::to_string(np), g.size(), nlev,
                 Median(tb), Median(ta), brute, {}, 0};
-        const auto Ysub = TransportOperator::Build(sub, probe, base.grid, q).Apply(Bref);
-        for (size_t k = 0; k < ref_mats.size(); ++k)
-          for (int c = 0; c < 3; ++c) {
-            const Eigen::Index col = 3 * k + c;
-            const double e = RelativeRmse(Ysub[c].col(col).cast<double>(), ref.Y[c].col(col).cast<double>());
-            double& m = row.class_max[ref_class[k]];
-            m = std::max(m, e);
-            row.worst = std::max(row.worst, e);
-          }
+        row.class_max = WorstErrorPerLabel(TransportOperator::Build(sub, probe, base.grid, q).Apply(Bref), ref.Y, ref_class);
+        for (const auto& [cls, e] : row.class_max) row.worst = std::max(row.worst, e);
         rows.push_back(row);
         std::printf("probe %4d  sphere %3d  %-6s  build %6.3f s  apply %6.3f s  worst error %.4f\n", width, sphere,
                     row.quality.c_str(), row.build_s, row.apply_s, row.worst);

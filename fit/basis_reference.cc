@@ -1,5 +1,7 @@
 #include "fit/basis_reference.h"
 
+#include <algorithm>
+
 #include "fit/transport.h"
 #include "util/check.h"
 
@@ -28,6 +30,38 @@ std::string ReferenceClassOf(const std::string& material) {
     for (const auto& m : c.materials)
       if (m == material) return c.name;
   return "";
+}
+
+std::vector<int> ReferenceMaterialIndices(const BasisDatabase& db) {
+  std::vector<int> out;
+  for (const std::string& name : ReferenceMaterialNames()) {
+    const auto it = std::find(db.materials.begin(), db.materials.end(), name);
+    if (it != db.materials.end()) out.push_back(static_cast<int>(it - db.materials.begin()));
+  }
+  return out;
+}
+
+MatrixXfR MaterialColumns(const BasisDatabase& db, const std::vector<int>& materials) {
+  MatrixXfR B(db.B.rows(), 3 * materials.size());
+  for (size_t k = 0; k < materials.size(); ++k) {
+    BRDFSHOT_CHECK(materials[k] >= 0 && materials[k] < db.num_materials());
+    B.middleCols(3 * k, 3) = db.B.middleCols(3 * materials[k], 3);
+  }
+  return B;
+}
+
+std::map<std::string, double> WorstErrorPerLabel(const std::array<MatrixXfR, 3>& Y,
+                                                 const std::array<MatrixXfR, 3>& ref,
+                                                 const std::vector<std::string>& labels) {
+  std::map<std::string, double> worst;
+  for (size_t k = 0; k < labels.size(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Index col = 3 * k + c;
+      BRDFSHOT_CHECK(col < Y[c].cols() && col < ref[c].cols());
+      double& m = worst[labels[k]];
+      m = std::max(m, RelativeRmse(Y[c].col(col).cast<double>(), ref[c].col(col).cast<double>()));
+    }
+  return worst;
 }
 
 MerlBrdf MaterialTable(const BasisDatabase& db, int m) {

@@ -6,6 +6,8 @@
 // basis-image file format (`brdfshot reference`).
 #pragma once
 
+#include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,20 @@ MerlBrdf MaterialTable(const BasisDatabase& db, int material);
 BasisImages RenderReferenceImages(const PixelGeometry& geometry, const LatLongProbe& probe,
                                   const BasisDatabase& db, const std::vector<int>& materials,
                                   int theta, int phi, Progress* progress);
+
+// Indices of the reference materials (ReferenceMaterialNames) the database
+// holds, in that order; empty for a database without MERL names.
+std::vector<int> ReferenceMaterialIndices(const BasisDatabase& db);
+
+// The database's three channel columns of each of `materials`, in that order.
+MatrixXfR MaterialColumns(const BasisDatabase& db, const std::vector<int>& materials);
+
+// Images of MaterialColumns (column 3k + c of Y_c: material k, channel c) against
+// a reference in the same layout: the worst RelativeRmse over each material's
+// channels, per label (`labels[k]` for material k; materials may share one).
+std::map<std::string, double> WorstErrorPerLabel(const std::array<MatrixXfR, 3>& Y,
+                                                 const std::array<MatrixXfR, 3>& ref,
+                                                 const std::vector<std::string>& labels);
 
 // ‖y − ref‖ / ‖ref‖ (0 when both vanish).
 double RelativeRmse(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& ref);

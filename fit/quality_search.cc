@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "fit/basis_reference.h"
 #include "util/check.h"
@@ -11,11 +10,7 @@ namespace brdfshot {
 
 std::vector<ErrorTestMaterial> ErrorTestMaterials(const BasisDatabase& db) {
   std::vector<ErrorTestMaterial> out;
-  for (const std::string& name : ReferenceMaterialNames()) {
-    const auto it = std::find(db.materials.begin(), db.materials.end(), name);
-    if (it != db.materials.end())
-      out.push_back({static_cast<int>(it - db.materials.begin()), ReferenceClassOf(name)});
-  }
+  for (int m : ReferenceMaterialIndices(db)) out.push_back({m, ReferenceClassOf(db.materials[m])});
   if (!out.empty()) return out;
   if (db.families.size() == db.materials.size()) {
     for (int m = 0; m < db.num_materials(); ++m) {
@@ -84,7 +79,8 @@ QualityChoice ChooseQuality(const PixelGeometry& geometry, const LatLongProbe& p
   const std::vector<ErrorTestMaterial> tests = ErrorTestMaterials(db);
   BRDFSHOT_CHECK(!tests.empty());
   std::vector<int> mats;
-  for (const auto& t : tests) mats.push_back(t.index);
+  std::vector<std::string> labels;
+  for (const auto& t : tests) mats.push_back(t.index), labels.push_back(t.label);
 
   QualityChoice choice;
   const PixelGeometry sub = SpreadSubset(geometry, options.pixels);
@@ -94,28 +90,15 @@ QualityChoice ChooseQuality(const PixelGeometry& geometry, const LatLongProbe& p
       RenderReferenceImages(sub, probe, db, mats, options.reference_theta, options.reference_phi, progress);
   choice.reference_seconds = sw.Seconds();
 
-  MatrixXfR B(db.B.rows(), 3 * mats.size());
-  for (size_t k = 0; k < mats.size(); ++k) B.middleCols(3 * k, 3) = db.B.middleCols(3 * mats[k], 3);
-  double best = std::numeric_limits<double>::infinity();
+  const MatrixXfR B = MaterialColumns(db, mats);
   for (const RenderQuality& q : QualityLadder(base, probe.width())) {
-    const auto Y = TransportOperator::Build(sub, probe, db.grid, q).Apply(B);
-    QualityTrial trial{q, {}, 0};
-    for (size_t k = 0; k < mats.size(); ++k)
-      for (int c = 0; c < 3; ++c) {
-        const Eigen::Index col = 3 * k + c;
-        const double e = RelativeRmse(Y[c].col(col).cast<double>(), ref.Y[c].col(col).cast<double>());
-        double& m = trial.label_error[tests[k].label];
-        m = std::max(m, e);
-        trial.worst = std::max(trial.worst, e);
-      }
+    QualityTrial trial{q, WorstErrorPerLabel(TransportOperator::Build(sub, probe, db.grid, q).Apply(B), ref.Y, labels), 0};
+    for (const auto& [label, e] : trial.label_error) trial.worst = std::max(trial.worst, e);
     choice.trials.push_back(trial);
-    if (trial.worst < best) best = trial.worst, choice.quality = q, choice.error = trial.worst;
-    if (trial.worst <= options.target) {
-      choice.quality = q;
-      choice.error = trial.worst;
-      choice.reached = true;
-      break;
-    }
+    // Every earlier trial missed the target, so one that meets it is also the best so far.
+    if (choice.trials.size() == 1 || trial.worst < choice.error) choice.quality = q, choice.error = trial.worst;
+    choice.reached = trial.worst <= options.target;
+    if (choice.reached) break;
   }
   return choice;
 }

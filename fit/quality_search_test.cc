@@ -144,8 +144,7 @@ TEST(QualitySearch, TheChosenSettingMeetsTheTargetOnPixelsItWasNotChosenOn) {
   std::vector<int> mats;
   for (const auto& t : tests) mats.push_back(t.index);
   const BasisImages ref = RenderReferenceImages(other, s.probe, s.db, mats, 96, 192, nullptr);
-  MatrixXfR B(s.db.B.rows(), 3 * mats.size());
-  for (size_t k = 0; k < mats.size(); ++k) B.middleCols(3 * k, 3) = s.db.B.middleCols(3 * mats[k], 3);
+  const MatrixXfR B = MaterialColumns(s.db, mats);
   const auto Y = TransportOperator::Build(other, s.probe, s.db.grid, c.quality).Apply(B);
   double worst = 0;
   for (Eigen::Index col = 0; col < B.cols(); ++col) {
