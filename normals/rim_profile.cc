@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "util/check.h"
+#include "util/vec3.h"
 
 namespace brdfshot {
 namespace {
@@ -29,7 +30,8 @@ const std::vector<double>& UnitRamp() {
   return table;
 }
 
-RimProfileModel::RimProfileModel(double sigma) : sigma_(sigma), ramp1_(UnitRamp()) {
+RimProfileModel::RimProfileModel(double sigma, bool curved_interior)
+    : sigma_(sigma), curved_interior_(curved_interior), ramp1_(UnitRamp()) {
   BRDFSHOT_CHECK(sigma > 0);
 }
 
@@ -41,6 +43,12 @@ double RimProfileModel::Ramp(double u) const {
   if (i + 1 >= static_cast<int>(ramp1_.size())) return std::sqrt(sigma_ * std::max(0.0, u / sigma_));
   const double f = x - i;
   return std::sqrt(sigma_) * ((1 - f) * ramp1_[i] + f * ramp1_[i + 1]);
+}
+
+double RimProfileModel::InsideLine(double u) const {
+  // ∫ max(0, t) g_σ(u − t) dt = σ (z Φ(z) + φ(z)), z = u/σ.
+  const double z = u / sigma_;
+  return sigma_ * (0.5 * z * std::erfc(-z / std::sqrt(2.0)) + std::exp(-0.5 * z * z) / std::sqrt(2 * kPi));
 }
 
 double RimProfileModel::Fit(const float* p, int n, double r0, double step, double guess, double* rss,
@@ -56,19 +64,22 @@ double RimProfileModel::Fit(const float* p, int n, double r0, double step, doubl
   Eigen::VectorXd y(m);
   for (int k = 0; k < m; ++k) y(k) = p[i0 + k];
   const double yy = y.squaredNorm();
-  // Normal equations (4×4): the columns are well scaled over a few pixels, and
-  // this runs 41 times per ray.
+  // Normal equations (5×5, or 4×4 with the fifth weight pinned to 0): the
+  // columns are well scaled over a few pixels, and this runs 20 times per ray.
+  using Vector5d = Eigen::Matrix<double, 5, 1>;
   auto residual = [&](double s0) {
-    Eigen::Matrix4d AtA = Eigen::Matrix4d::Zero();
-    Eigen::Vector4d Aty = Eigen::Vector4d::Zero();
+    Eigen::Matrix<double, 5, 5> AtA = Eigen::Matrix<double, 5, 5>::Zero();
+    Vector5d Aty = Vector5d::Zero();
     for (int k = 0; k < m; ++k) {
       const double s = r0 + (i0 + k) * step, u = s0 - s;
-      const Eigen::Vector4d a(1.0, -u, 0.5 * std::erfc(-u / (sigma_ * std::sqrt(2.0))), Ramp(u));
+      const Vector5d a(1.0, -u, 0.5 * std::erfc(-u / (sigma_ * std::sqrt(2.0))), Ramp(u),
+                       curved_interior_ ? InsideLine(u) : 0.0);
       AtA.selfadjointView<Eigen::Lower>().rankUpdate(a);
       Aty += a * y(k);
     }
     AtA = AtA.selfadjointView<Eigen::Lower>();
-    const Eigen::Vector4d b = AtA.ldlt().solve(Aty);
+    if (!curved_interior_) AtA(4, 4) = 1;
+    const Vector5d b = AtA.ldlt().solve(Aty);
     return std::max(0.0, yy - b.dot(Aty));
   };
   // Scan ±1 px at ¼ px, then ±¼ px around the best at 1/20 px, then a
@@ -104,7 +115,7 @@ double EstimateRimBlur(const std::vector<const float*>& profiles, int n, double 
   // ignores the rays that clutter spoils.
   auto vote = [&](const std::vector<double>& sigmas) {
     std::vector<RimProfileModel> models;
-    for (double sigma : sigmas) models.emplace_back(sigma);
+    for (double sigma : sigmas) models.emplace_back(sigma, /*curved_interior=*/true);
     std::vector<double> votes;
     for (size_t k = 0; k < profiles.size(); ++k) {
       double best = std::numeric_limits<double>::infinity(), best_sigma = 0;
