@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "util/check.h"
 #include "util/vec3.h"
@@ -45,10 +46,11 @@ double RimProfileModel::Ramp(double u) const {
   return std::sqrt(sigma_) * ((1 - f) * ramp1_[i] + f * ramp1_[i + 1]);
 }
 
-double RimProfileModel::InsideLine(double u) const {
-  // ∫ max(0, t) g_σ(u − t) dt = σ (z Φ(z) + φ(z)), z = u/σ.
+double RimProfileModel::InsideLine(double u, double step_u) const {
+  // ∫ max(0, t) g_σ(u − t) dt = σ (z Φ(z) + φ(z)), z = u/σ; Φ(z) is the
+  // step column, already computed.
   const double z = u / sigma_;
-  return sigma_ * (0.5 * z * std::erfc(-z / std::sqrt(2.0)) + std::exp(-0.5 * z * z) / std::sqrt(2 * kPi));
+  return sigma_ * (z * step_u + std::exp(-0.5 * z * z) / std::sqrt(2 * kPi));
 }
 
 double RimProfileModel::Fit(const float* p, int n, double r0, double step, double guess, double* rss,
@@ -64,23 +66,29 @@ double RimProfileModel::Fit(const float* p, int n, double r0, double step, doubl
   Eigen::VectorXd y(m);
   for (int k = 0; k < m; ++k) y(k) = p[i0 + k];
   const double yy = y.squaredNorm();
-  // Normal equations (5×5, or 4×4 with the fifth weight pinned to 0): the
-  // columns are well scaled over a few pixels, and this runs 20 times per ray.
-  using Vector5d = Eigen::Matrix<double, 5, 1>;
-  auto residual = [&](double s0) {
-    Eigen::Matrix<double, 5, 5> AtA = Eigen::Matrix<double, 5, 5>::Zero();
-    Vector5d Aty = Vector5d::Zero();
+  // Normal equations (4×4, or 5×5 with the curved interior): the columns are
+  // well scaled over a few pixels, and this runs 20 times per ray.
+  auto residual_n = [&](double s0, auto terms) {
+    constexpr int N = decltype(terms)::value;
+    Eigen::Matrix<double, N, N> AtA = Eigen::Matrix<double, N, N>::Zero();
+    Eigen::Matrix<double, N, 1> Aty = Eigen::Matrix<double, N, 1>::Zero(), a;
     for (int k = 0; k < m; ++k) {
       const double s = r0 + (i0 + k) * step, u = s0 - s;
-      const Vector5d a(1.0, -u, 0.5 * std::erfc(-u / (sigma_ * std::sqrt(2.0))), Ramp(u),
-                       curved_interior_ ? InsideLine(u) : 0.0);
-      AtA.selfadjointView<Eigen::Lower>().rankUpdate(a);
+      a(0) = 1.0;
+      a(1) = -u;
+      a(2) = 0.5 * std::erfc(-u / (sigma_ * std::sqrt(2.0)));
+      a(3) = Ramp(u);
+      if constexpr (N == 5) a(4) = InsideLine(u, a(2));
+      AtA.template selfadjointView<Eigen::Lower>().rankUpdate(a);
       Aty += a * y(k);
     }
-    AtA = AtA.selfadjointView<Eigen::Lower>();
-    if (!curved_interior_) AtA(4, 4) = 1;
-    const Vector5d b = AtA.ldlt().solve(Aty);
+    AtA = AtA.template selfadjointView<Eigen::Lower>();
+    const Eigen::Matrix<double, N, 1> b = AtA.ldlt().solve(Aty);
     return std::max(0.0, yy - b.dot(Aty));
+  };
+  auto residual = [&](double s0) {
+    return curved_interior_ ? residual_n(s0, std::integral_constant<int, 5>())
+                            : residual_n(s0, std::integral_constant<int, 4>());
   };
   // Scan ±1 px at ¼ px, then ±¼ px around the best at 1/20 px, then a
   // parabola through the best three: 20 solves instead of 41.

@@ -40,7 +40,8 @@ class RimProfileModel {
 
  private:
   double Ramp(double u) const;        // R_σ(u)
-  double InsideLine(double u) const;  // max(0, u) blurred by σ
+  // max(0, u) blurred by σ, given the blurred step Φ(u/σ)
+  double InsideLine(double u, double step_u) const;
   double sigma_;
   bool curved_interior_;
   const std::vector<double>& ramp1_;  // R_1 on u ∈ [−8, 64), step 1/64 (shared table)
