@@ -39,6 +39,54 @@ constexpr double kMaxRimMisfit = 4.0;
 constexpr double kMarginalRimRms = 0.6;
 }  // namespace
 
+namespace {
+
+constexpr float kLuminance[3] = {0.2126f, 0.7152f, 0.0722f};
+
+cv::Mat Luminance(const cv::Mat& rgb) {
+  cv::Mat lum;
+  cv::transform(rgb, lum, cv::Matx13f(kLuminance[0], kLuminance[1], kLuminance[2]));
+  return lum;
+}
+
+// Each row (a ray's RGB profile) projected on w ∝ ℓ ⊙ Δ, Δ its colour step
+// at the steepest point, ℓ the luminance weights, |w|₁ = 1. Across a grey
+// step w is ±ℓ, so the result is the luminance (up to sign) as before; across
+// a step in colour at equal luminance — a red ball against green leaves,
+// where the luminance profile has no rim at all — it keeps the contrast
+// (w·Δ = Σ ℓ_c Δ_c² > 0). The ℓ weighting stands in for each channel's
+// noise (green, twice sampled on a Bayer sensor, is the cleanest): weighting
+// the channels equally made DiLiGenT's grey ball's normals worse.
+cv::Mat ColourStepProjection(const cv::Mat& rgb) {
+  const int n = rgb.cols;
+  cv::Mat out(rgb.rows, n, CV_32F);
+  for (int k = 0; k < rgb.rows; ++k) {
+    const cv::Vec3f* p = rgb.ptr<cv::Vec3f>(k);
+    // The steepest point by the ℓ-weighted colour difference.
+    int best = -1;
+    double best_d = 0;
+    for (int i = 1; i + 1 < n; ++i) {
+      const cv::Vec3f d = p[i + 1] - p[i - 1];
+      double d2 = 0;
+      for (int c = 0; c < 3; ++c) d2 += kLuminance[c] * d[c] * d[c];
+      if (d2 > best_d) best_d = d2, best = i;
+    }
+    cv::Vec3f w(kLuminance[0], kLuminance[1], kLuminance[2]);
+    if (best >= 0) {
+      // The step across ±1 px (4 samples each side) of it.
+      const cv::Vec3f step = p[std::min(n - 1, best + 4)] - p[std::max(0, best - 4)];
+      const cv::Vec3f lw(kLuminance[0] * step[0], kLuminance[1] * step[1], kLuminance[2] * step[2]);
+      const float l1 = std::abs(lw[0]) + std::abs(lw[1]) + std::abs(lw[2]);
+      if (l1 > 0) w = lw / l1;
+    }
+    float* q = out.ptr<float>(k);
+    for (int i = 0; i < n; ++i) q[i] = w.dot(p[i]);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
                                           double r_hi, int rays, double* rim_blur, bool log_pick) {
   BRDFSHOT_CHECK((image.type() == CV_32F || image.type() == CV_32FC3) && rays > 0 && r_hi > r_lo && r_lo >= 0);
@@ -57,11 +105,13 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
   }
   cv::Mat prof;
   cv::remap(image, prof, mapx, mapy, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-  // Luminance of the samples only: a 12 MP photo is never converted whole.
-  if (prof.channels() == 3) cv::transform(prof, prof, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
   // Smooth along the ray over about a pixel: bilinear samples at ¼ px are
   // piecewise linear, and their raw differences would lock onto pixel edges.
   cv::GaussianBlur(prof, prof, cv::Size(9, 1), 2.0, 0, cv::BORDER_REPLICATE);
+  // One channel per ray from the samples only (a 12 MP photo is never
+  // converted whole): luminance, or for linear picks the colour projection
+  // that shows this ray's rim best (ColourStepProjection).
+  if (prof.channels() == 3) prof = log_pick ? Luminance(prof) : ColourStepProjection(prof);
   std::vector<double> strength(rays, 0.0), where(rays, -1.0);
   // Log picks: the samples floored at 1 % of their 99th percentile, as
   // LogLuminance does, so a black background's noise makes no edges.
@@ -164,22 +214,39 @@ std::vector<Circle> HoughCandidates(const cv::Mat& rgb, const SphereDetectOption
     small = f;
   }
   const double scale0 = double(small.cols) / rgb.cols;
-  cv::Mat ll = LogLuminance(small);
+  // Log luminance, and with colour_candidates the colour ratios log(R/G) and
+  // log(B/G), where a sphere against a background of the same luminance but
+  // another colour (a red ball before green leaves) still has its whole rim.
+  // Hough on luminance alone put such a ball's circle 27 px off.
+  std::vector<cv::Mat> views{LogLuminance(small)};
+  if (o.colour_candidates && small.channels() == 3) {
+    std::vector<cv::Mat> c;
+    cv::split(small, c);
+    const float floor = static_cast<float>(std::exp(*std::min_element(views[0].begin<float>(), views[0].end<float>())));
+    for (cv::Mat& m : c) {
+      cv::max(m, floor, m);
+      cv::log(m, m);
+    }
+    views.push_back(c[0] - c[1]);
+    views.push_back(c[2] - c[1]);
+  }
   std::vector<Circle> out;
-  // Two scales: at the coarser one a large, blurred rim is still a sharp
-  // circle to the gradient voting (a 224 px ball at σ = 2 px is missed at 512).
-  for (int level = 0; level < 2; ++level) {
-    if (level) cv::resize(ll, ll, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
-    const double scale = scale0 * (level ? 0.5 : 1.0);
-    cv::Mat u8;  // the log range stretched over 0…255 (HoughCircles takes 8-bit)
-    cv::normalize(ll, u8, 0, 255, cv::NORM_MINMAX, CV_8U);
-    const int side = std::min(u8.cols, u8.rows);
-    std::vector<cv::Vec3f> found;
-    // Gradient-alt: param2 is how perfect a circle must be (1 = perfect).
-    cv::HoughCircles(u8, found, cv::HOUGH_GRADIENT_ALT, 1.5, side * o.min_radius, 60, 0.6,
-                     std::max(3, static_cast<int>(side * o.min_radius)), static_cast<int>(side * o.max_radius));
-    // HoughCircles reports centres with pixel centres at integers.
-    for (const cv::Vec3f& c : found) out.push_back({(c[0] + 0.5) / scale, (c[1] + 0.5) / scale, c[2] / scale});
+  for (cv::Mat& view : views) {
+    // Two scales: at the coarser one a large, blurred rim is still a sharp
+    // circle to the gradient voting (a 224 px ball at σ = 2 px is missed at 512).
+    for (int level = 0; level < 2; ++level) {
+      if (level) cv::resize(view, view, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+      const double scale = scale0 * (level ? 0.5 : 1.0);
+      cv::Mat u8;  // the log range stretched over 0…255 (HoughCircles takes 8-bit)
+      cv::normalize(view, u8, 0, 255, cv::NORM_MINMAX, CV_8U);
+      const int side = std::min(u8.cols, u8.rows);
+      std::vector<cv::Vec3f> found;
+      // Gradient-alt: param2 is how perfect a circle must be (1 = perfect).
+      cv::HoughCircles(u8, found, cv::HOUGH_GRADIENT_ALT, 1.5, side * o.min_radius, 60, 0.6,
+                       std::max(3, static_cast<int>(side * o.min_radius)), static_cast<int>(side * o.max_radius));
+      // HoughCircles reports centres with pixel centres at integers.
+      for (const cv::Vec3f& c : found) out.push_back({(c[0] + 0.5) / scale, (c[1] + 0.5) / scale, c[2] / scale});
+    }
   }
   return out;
 }
@@ -401,7 +468,9 @@ SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOption
 
 }  // namespace
 
-SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
+namespace {
+
+SphereDetection DetectWithLogFallback(const cv::Mat& rgb, const SphereDetectOptions& o) {
   if (o.log_edges) return DetectSphereOnce(rgb, o);
   // A rim partly in attached shadow (a ball lit from the side, as in
   // photometric stereo): there the steepest linear step is the terminator
@@ -433,6 +502,26 @@ SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
     return log.quality.rms_px < linear.quality.rms_px ? log : linear;
   } catch (const Error&) {
     return linear;
+  }
+}
+
+}  // namespace
+
+SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
+  try {
+    return DetectWithLogFallback(rgb, o);
+  } catch (const NoSphereFound& first) {
+    // Circles from the colour ratios too: a fallback, as the extra Hough
+    // views and candidates cost ~40 ms a photo and luminance finds every
+    // sphere in bench-detect's scenes.
+    if (o.colour_candidates || rgb.channels() != 3) throw;
+    SphereDetectOptions colour = o;
+    colour.colour_candidates = true;
+    try {
+      return DetectWithLogFallback(rgb, colour);
+    } catch (const NoSphereFound&) {
+      throw first;
+    }
   }
 }
 

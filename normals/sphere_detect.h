@@ -1,13 +1,16 @@
 // Finding a sphere in a photo: coarse then sub-pixel.
 //
 //  1. Coarse: OpenCV's HoughCircles (gradient-alt) on a log-luminance copy
-//     reduced to ≤ 512 px, candidates ranked by how many radial rays find an
-//     edge near their rim (clutter makes circles too; a sphere's rim is closed).
+//     reduced to ≤ 512 px (and, when that finds no sphere, on its colour
+//     ratios too), candidates ranked by how many radial rays find an edge
+//     near their rim (clutter makes circles too; a sphere's rim is closed).
 //  2. Sub-pixel: along `rays` radial profiles through the full-resolution
-//     image, the edge is the peak of the profile's derivative, interpolated
-//     by a parabola; the points are fitted robustly (FitCircleRobust, or the
-//     perspective cone when the focal length is known). Twice: the second pass
-//     looks in a narrow band around the first fit, away from clutter.
+//     image (each ray's colour projected on the direction of its own step,
+//     so a rim in colour counts as much as one in luminance), the edge is the
+//     peak of the profile's derivative, interpolated by a parabola, then the
+//     rim model's (rim_profile.h); the points are fitted robustly
+//     (FitCircleRobust, or the perspective cone when the focal length is
+//     known). Three passes, each in a narrower band around the last fit.
 //
 // Why log luminance: an HDR photo spans many stops; in log the sphere's rim
 // has the same contrast in a dark corner and next to a window.
@@ -35,6 +38,9 @@ struct SphereDetectOptions {
   // Pick each ray's edge in log luminance (see DetectSphere). Off: tried when
   // the linear picks find no sphere.
   bool log_edges = false;
+  // Coarse circles from the colour ratios log(R/G), log(B/G) as well as from
+  // log luminance. Off: tried when luminance finds no sphere.
+  bool colour_candidates = false;
 };
 
 
@@ -69,11 +75,13 @@ class NoSphereFound : public Error {
 // step); when that finds no sphere or fits its rim only marginally, again in
 // log luminance, which finds a rim partly in attached shadow, and the better
 // fit wins (rim_in_shadow is then set; DiLiGenT's ball: 29 of its 96 lights
-// found linearly, 85 with log edges, all within 0.8 px).
+// found linearly, 89 with log edges, all within 0.9 px). When neither finds
+// a sphere, both again with colour_candidates.
 SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& options = {});
 
 // Edge points along `rays` radial profiles of `image` (float, one channel or
-// RGB — then the luminance of the samples)
+// RGB — then per ray the colour projection that shows its step best, or the
+// luminance for log picks)
 // between radii r_lo and r_hi around `centre` (continuous coordinates): the
 // steepest point of each, or — when `rim_blur` is given — the rim model's fit
 // (rim_profile.h) around it, with the blur it estimated written there. Rays
@@ -83,8 +91,9 @@ SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& opti
 std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
                                           double r_hi, int rays, double* rim_blur = nullptr, bool log_pick = false);
 
-// OpenCV's HoughCircles alone on the same reduced image (the baseline the
-// sub-pixel stage is measured against). Empty vector if it finds nothing.
-std::vector<Circle> HoughCandidates(const cv::Mat& log_lum, const SphereDetectOptions& options);
+// OpenCV's HoughCircles on the reduced log luminance (and colour ratios with
+// options.colour_candidates) of an RGB image: the coarse candidates. Empty
+// vector if it finds nothing.
+std::vector<Circle> HoughCandidates(const cv::Mat& rgb, const SphereDetectOptions& options);
 
 }  // namespace brdfshot
