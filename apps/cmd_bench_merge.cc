@@ -18,6 +18,7 @@
 #include "apps/command.h"
 #include "apps/common_options.h"
 #include "apps/scene_setup.h"
+#include "capture/clipping.h"
 #include "capture/merge.h"
 #include "capture/response.h"
 #include "capture/synthetic_bracket.h"
@@ -35,6 +36,10 @@ namespace {
 struct ErrorStats {
   double median = 0, p95 = 0, mean = 0;
   double bad_fraction = 0;  // non-finite or ≤ 0 where the truth was measurable
+  // What a light probe is for: each channel's total power over the measurable
+  // pixels, after the same scale, against the truth's (the worst channel). A
+  // few wrong pixels (a sun) leave the median alone and move this.
+  double power = 0;
 };
 
 // Where some frame measured the truth: not clipped in the shortest exposure,
@@ -67,7 +72,7 @@ ErrorStats Compare(const cv::Mat& merged, const cv::Mat& truth, const cv::Mat& m
         }
         ratio[c].push_back(t / m);
       }
-  double scale[3];
+  double scale[3], power_merged[3] = {0, 0, 0}, power_truth[3] = {0, 0, 0};
   for (int c = 0; c < 3; ++c) {
     std::vector<double> r = ratio[c];
     if (r.empty()) return s;
@@ -80,7 +85,11 @@ ErrorStats Compare(const cv::Mat& merged, const cv::Mat& truth, const cv::Mat& m
         if (!measurable.at<cv::Vec3b>(y, x)[c]) continue;
         const double m = merged.at<cv::Vec3f>(y, x)[c], t = truth.at<cv::Vec3f>(y, x)[c];
         rel.push_back(std::isfinite(m) && m > 0 ? std::abs(scale[c] * m / t - 1) : 1.0);
+        if (std::isfinite(m)) power_merged[c] += scale[c] * m;
+        power_truth[c] += t;
       }
+  for (int c = 0; c < 3; ++c)
+    if (power_truth[c] > 0) s.power = std::max(s.power, std::abs(power_merged[c] / power_truth[c] - 1));
   s.bad_fraction = n ? double(bad) / n : 0;
   if (rel.empty()) return s;
   double sum = 0;
@@ -152,12 +161,16 @@ cv::Mat PfstoolsMerge(const std::vector<cv::Mat>& frames, const std::vector<doub
   return hdr;
 }
 
-std::vector<Method> Methods(const CameraModel& cam) {
-  auto ours = [](MergeWeights w) {
-    return [w](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
+// `jpeg`: the 8-bit frames went through JPEG, and ours treats them as the
+// merge command treats .jpg files (clipping for all channels and nearby).
+std::vector<Method> Methods(const CameraModel& cam, bool jpeg) {
+  const int reach = jpeg ? kJpegClipReach : -1;
+  auto ours = [reach](MergeWeights w) {
+    return [w, reach](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
       MergeOptions o;
       o.weights = w;
-      return MergeBracket(f, t, RecoverResponse(f, t), o).radiance;
+      o.clip_reach = reach;
+      return MergeBracket(f, t, RecoverResponse(f, t, 3, 200000, reach), o).radiance;
     };
   };
   return {
@@ -167,8 +180,16 @@ std::vector<Method> Methods(const CameraModel& cam) {
          return MergeBracket(f, t, RecoverResponseDebevec(f, t)).radiance;
        }},
       {"ours-true", "brdfshot merge with the camera's true response (calibration floor)", false,
-       [cam](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
-         return MergeBracket(f, t, TrueResponse(cam)).radiance;
+       [cam, reach](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
+         MergeOptions o;
+         o.clip_reach = reach;
+         return MergeBracket(f, t, TrueResponse(cam), o).radiance;
+       }},
+      {"ours-perchannel", "brdfshot, each channel clipped on its own (lossless frames; JPEG before session 13)", false,
+       [](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
+         MergeOptions o;
+         o.clip_reach = -1;
+         return MergeBracket(f, t, RecoverResponse(f, t), o).radiance;
        }},
       {"ours-hat", "brdfshot, hat x t weights", false, ours(MergeWeights::kHat)},
       {"ours-flat", "brdfshot, flat-top x t weights", false, ours(MergeWeights::kFlat)},
@@ -189,7 +210,7 @@ std::vector<Method> Methods(const CameraModel& cam) {
 int BenchMergeMain(int argc, char** argv) {
   std::string probes_arg, data, size_arg = "4000x3000", out = "bench_merge",
                           methods_arg = "ours,ours-hat,ours-flat,cv-debevec,cv-robertson,pfstools,ours-raw";
-  int frames = 9;
+  int frames = 9, jpeg_quality = 0;
   double stops = 1;
   CameraModel cam;
   po::options_description desc("options");
@@ -201,6 +222,8 @@ int BenchMergeMain(int argc, char** argv) {
       ("stops", po::value(&stops)->default_value(stops), "EV between exposures")
       ("read-noise", po::value(&cam.read_noise)->default_value(cam.read_noise), "camera read noise (electrons)")
       ("full-well", po::value(&cam.full_well)->default_value(cam.full_well), "camera full well (electrons)")
+      ("jpeg", po::value(&jpeg_quality)->default_value(jpeg_quality),
+       "pass the 8-bit frames through JPEG at this quality (OpenCV's 4:2:0), as a camera's JPEGs; 0: lossless")
       ("methods", po::value(&methods_arg)->default_value(methods_arg), "methods to run (cv-robertson takes minutes at 12 MP)")
       ("out,o", po::value(&out)->default_value(out), "output folder: table (markdown, CSV)");
   if (!ParseOptions("bench-merge", "[options]", desc, argc, argv)) return 0;
@@ -214,15 +237,15 @@ int BenchMergeMain(int argc, char** argv) {
   std::vector<Method> methods;
   for (const std::string& k : SplitList(methods_arg)) {
     bool found = false;
-    for (const Method& m : Methods(cam))
+    for (const Method& m : Methods(cam, jpeg_quality > 0))
       if (m.key == k) methods.push_back(m), found = true;
     if (!found) throw Error("unknown method '" + k + "' in --methods");
   }
   std::map<std::string, std::vector<double>> times_s;
   std::map<std::string, std::vector<ErrorStats>> errors;
   std::ostringstream md, csv;
-  md << "| scene | method | median rel. error | 95th pct | mean | unusable | time s |\n|---|---|---|---|---|---|---|\n";
-  csv << "scene,method,median,p95,mean,unusable,seconds\n";
+  md << "| scene | method | median rel. error | 95th pct | mean | power | unusable | time s |\n|---|---|---|---|---|---|---|---|\n";
+  csv << "scene,method,median,p95,mean,power,unusable,seconds\n";
   char buf[512];
   for (const std::string& path : probes) {
     const std::string scene = std::filesystem::path(path).stem().string();
@@ -235,6 +258,14 @@ int BenchMergeMain(int argc, char** argv) {
     raw.raw_bits = 12;
     Stopwatch sim;
     brackets[false] = SimulateBracket(truth, t, ldr);
+    if (jpeg_quality > 0)
+      for (cv::Mat& f : brackets[false]) {
+        std::vector<uint8_t> bytes;
+        cv::Mat bgr;
+        cv::cvtColor(f, bgr, cv::COLOR_RGB2BGR);
+        cv::imencode(".jpg", bgr, bytes, {cv::IMWRITE_JPEG_QUALITY, jpeg_quality});
+        cv::cvtColor(cv::imdecode(bytes, cv::IMREAD_COLOR), f, cv::COLOR_BGR2RGB);
+      }
     brackets[true] = SimulateBracket(truth, t, raw);
     const cv::Mat measurable = MeasurableMask(truth, t, cam);
     std::printf("%s: %dx%d, %d frames %.0f EV apart, simulated in %.1f s\n", scene.c_str(), width, height, frames,
@@ -250,24 +281,25 @@ int BenchMergeMain(int argc, char** argv) {
       const ErrorStats e = Compare(hdr, truth, measurable);
       times_s[m.name].push_back(secs);
       errors[m.name].push_back(e);
-      std::snprintf(buf, sizeof buf, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %.3f |\n", scene.c_str(),
-                    m.name.c_str(), e.median, e.p95, e.mean, e.bad_fraction, secs);
+      std::snprintf(buf, sizeof buf, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f |\n", scene.c_str(),
+                    m.name.c_str(), e.median, e.p95, e.mean, e.power, e.bad_fraction, secs);
       md << buf;
-      std::printf("  %-58s median %.4f  p95 %.4f  %.3f s\n", m.name.c_str(), e.median, e.p95, secs);
+      std::printf("  %-58s median %.4f  p95 %.4f  power %.4f  %.3f s\n", m.name.c_str(), e.median, e.p95, e.power, secs);
       std::fflush(stdout);
-      std::snprintf(buf, sizeof buf, "%s,\"%s\",%.5f,%.5f,%.5f,%.5f,%.4f\n", scene.c_str(), m.name.c_str(), e.median,
-                    e.p95, e.mean, e.bad_fraction, secs);
+      std::snprintf(buf, sizeof buf, "%s,\"%s\",%.5f,%.5f,%.5f,%.5f,%.5f,%.4f\n", scene.c_str(), m.name.c_str(),
+                    e.median, e.p95, e.mean, e.power, e.bad_fraction, secs);
       csv << buf;
     }
   }
-  md << "\n| method | median of medians | median of 95th pct | median time s | time / OpenCV Debevec |\n|---|---|---|---|---|\n";
+  md << "\n| method | median of medians | median of 95th pct | worst power | median time s | time / OpenCV Debevec |\n|---|---|---|---|---|---|\n";
   const double t_cv = Median(times_s["OpenCV CalibrateDebevec + MergeDebevec"]);  // 0 if not run
   for (const Method& m : methods) {
     std::vector<double> med, p95;
-    for (const ErrorStats& e : errors[m.name]) med.push_back(e.median), p95.push_back(e.p95);
+    double power = 0;
+    for (const ErrorStats& e : errors[m.name]) med.push_back(e.median), p95.push_back(e.p95), power = std::max(power, e.power);
     const double tm = Median(times_s[m.name]);
-    std::snprintf(buf, sizeof buf, "| %s | %.4f | %.4f | %.3f | %.2f |\n", m.name.c_str(), Median(med), Median(p95),
-                  tm, t_cv > 0 ? tm / t_cv : 0);
+    std::snprintf(buf, sizeof buf, "| %s | %.4f | %.4f | %.4f | %.3f | %.2f |\n", m.name.c_str(), Median(med),
+                  Median(p95), power, tm, t_cv > 0 ? tm / t_cv : 0);
     md << buf;
   }
   std::printf("\n%s", md.str().c_str());

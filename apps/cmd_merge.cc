@@ -13,6 +13,7 @@
 #include "apps/common_options.h"
 #include "capture/exposure.h"
 #include "capture/align.h"
+#include "capture/clipping.h"
 #include "capture/merge.h"
 #include "capture/orientation.h"
 #include "capture/raw.h"
@@ -29,9 +30,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool IsRaw(const std::string& path) {
+std::string LowerExtension(const std::string& path) {
   std::string e = fs::path(path).extension().string();
   std::transform(e.begin(), e.end(), e.begin(), ::tolower);
+  return e;
+}
+
+bool IsJpeg(const std::string& path) {
+  const std::string e = LowerExtension(path);
+  return e == ".jpg" || e == ".jpeg";
+}
+
+bool IsRaw(const std::string& path) {
+  const std::string e = LowerExtension(path);
   for (const char* r : {".kdc", ".cr2", ".cr3", ".nef", ".arw", ".dng", ".raf", ".orf", ".rw2", ".pef", ".srw"})
     if (e == r) return true;
   return false;
@@ -131,6 +142,9 @@ int MergeMain(int argc, char** argv) {
   std::string camera;
   double focal_35mm = 0;  // the first frame's that says
   const bool raw = IsRaw(files[0]);
+  // JPEG frames: a clipped highlight's chroma lowers its neighbours' codes,
+  // so clipping counts for all channels and nearby (capture/clipping.h).
+  bool jpeg = false;
   for (size_t j = 0; j < files.size(); ++j) {
     const std::string& f = files[j];
     if (IsRaw(f) != raw) throw FileError(f, "mixes RAW and non-RAW frames in one bracket");
@@ -148,6 +162,7 @@ int MergeMain(int argc, char** argv) {
     } else {
       const cv::Mat bgr = cv::imread(f, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
       if (bgr.empty()) throw FileError(f, "cannot decode image");
+      jpeg = jpeg || IsJpeg(f);
       if (bgr.depth() != CV_8U && bgr.depth() != CV_16U) throw FileError(f, "frames must be 8- or 16-bit");
       cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
       try {
@@ -212,13 +227,15 @@ int MergeMain(int argc, char** argv) {
   if (!response_in.empty()) {
     response = ResponseCurve::FromJson(ReadJsonFile(response_in), response_in);
   } else if (frames[0].depth() == CV_8U) {
-    response = RecoverResponse(frames, exposure);
+    response = RecoverResponse(frames, exposure, 3, 200000, jpeg ? kJpegClipReach : -1);
   } else {
     response = ResponseCurve::Linear16();
   }
   if (!response_out.empty())
     WriteFileAtomic(response_out, [&](std::ostream& o) { o << response.ToJson().dump(1) << "\n"; });
-  const MergeResult m = MergeBracket(frames, exposure, response);
+  MergeOptions merge_options;
+  if (jpeg) merge_options.clip_reach = kJpegClipReach;
+  const MergeResult m = MergeBracket(frames, exposure, response, merge_options);
   double max_radiance = 0;
   cv::minMaxLoc(m.radiance.reshape(1), nullptr, &max_radiance);
   if (half && max_radiance > 65504)

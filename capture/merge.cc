@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "capture/clipping.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -118,9 +119,13 @@ NoiseModel EstimateNoise(const std::vector<cv::Mat>& frames, const std::vector<d
   return m;
 }
 
-MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
-                         const ResponseCurve& response, const MergeOptions& opt) {
-  CheckBracket(frames, times);
+namespace {
+
+// MergeBracket, with `clipped` (one mask per frame, or empty: per channel)
+// saying where each frame does not count.
+MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
+                              const ResponseCurve& response, const MergeOptions& opt,
+                              const std::vector<cv::Mat>& clipped) {
   const int type = frames[0].type();
   const CodeTables T = MakeTables(type, response, opt);
   const int levels = T.levels, zlo = T.zlo, zhi = T.zhi;
@@ -165,6 +170,7 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
       for (int c = 0; c < 3; ++c) {
         double num = 0, den = 0;
         for (int j = 0; j < N; ++j) {
+          if (!clipped.empty() && clipped[j].ptr<uint8_t>(y)[x]) continue;
           const int z = code(j, y, x, c);
           const double w = wz[c][z] * (t_power == 2 ? times[j] * times[j] : times[j]);
           num += w * lin[c][z] / times[j];
@@ -174,9 +180,12 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
           dst[x][c] = static_cast<float>(num / den);
           continue;
         }
+        // Unmeasured: the bound the frames imply — bright when the shortest
+        // frame is clipped there or nearby, dark otherwise.
         const int zs = code(shortest, y, x, c), zl = code(longest, y, x, c);
-        dst[x][c] = zs >= zhi ? lin[c][zs] / static_cast<float>(times[shortest])
-                              : lin[c][zl] / static_cast<float>(times[longest]);
+        const bool bright = zs >= zhi || (!clipped.empty() && clipped[shortest].ptr<uint8_t>(y)[x]);
+        dst[x][c] = bright ? lin[c][zs] / static_cast<float>(times[shortest])
+                           : lin[c][zl] / static_cast<float>(times[longest]);
         // A single linear frame's dark codes are still its measurement (there
         // is no other frame to prefer); only its clipped ones are unreliable.
         bad = bad || N > 1 || zs >= zhi;
@@ -188,33 +197,56 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
   return out;
 }
 
+}  // namespace
+
+MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
+                         const ResponseCurve& response, const MergeOptions& opt) {
+  CheckBracket(frames, times);
+  // A frame does not count where it is clipped nearby (clipping.h: JPEG
+  // lowers the codes around a clipped highlight). Empty: per channel.
+  const int zhi = MakeTables(frames[0].type(), response, opt).zhi;
+  return MergeWithClipping(frames, times, response, opt, ClippedNearby(frames, zhi, opt.clip_reach));
+}
+
 }  // namespace brdfshot
 
 namespace brdfshot {
 
 ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vector<double>& times, int iterations,
-                              int pixels) {
-  ResponseCurve r = RecoverResponseDebevec(frames, times);  // checks: ≥ 2 frames, 8-bit, same size
+                              int pixels, int clip_reach) {
+  DebevecOptions debevec;
+  debevec.clip_reach = clip_reach;
+  ResponseCurve r = RecoverResponseDebevec(frames, times, debevec);  // checks: ≥ 2 frames, 8-bit, same size
   if (iterations <= 0) return r;
   // A regular grid of the frames: the fixed point needs many pixels per code,
   // not every pixel.
   const int step = std::max(1, static_cast<int>(std::sqrt(frames[0].total() / static_cast<double>(pixels))));
-  std::vector<cv::Mat> sub;
-  for (const cv::Mat& f : frames) {
-    cv::Mat s(f.rows / step, f.cols / step, f.type());
+  // The samples clipped nearby in a frame (JPEG: clip_reach ≥ 0) are left
+  // out of that frame's codes, as the merge leaves them out.
+  std::vector<cv::Mat> sub, sub_clipped;
+  for (size_t j = 0; j < frames.size(); ++j) {
+    const cv::Mat& f = frames[j];
+    cv::Mat s(f.rows / step, f.cols / step, f.type()), c(s.size(), CV_8U);
     for (int y = 0; y < s.rows; ++y)
-      for (int x = 0; x < s.cols; ++x) s.at<cv::Vec3b>(y, x) = f.at<cv::Vec3b>(y * step, x * step);
+      for (int x = 0; x < s.cols; ++x) {
+        s.at<cv::Vec3b>(y, x) = f.at<cv::Vec3b>(y * step, x * step);
+        c.at<uint8_t>(y, x) = IsClippedNearby(f, x * step, y * step, kClippedCode8, clip_reach) ? 255 : 0;
+      }
     sub.push_back(s);
+    sub_clipped.push_back(c);
   }
-  MergeOptions opt;
+  // The grid's samples are not adjacent pixels: their clipping is the full
+  // frames', sampled (sub_clipped), in the merge as in the sums below.
+  if (clip_reach < 0) sub_clipped.clear();
+  const MergeOptions opt;
   for (int it = 0; it < iterations; ++it) {
-    const MergeResult m = MergeBracket(sub, times, r, opt);
+    const MergeResult m = MergeWithClipping(sub, times, r, opt, sub_clipped);
     for (int c = 0; c < 3; ++c) {
       std::vector<double> sum(256, 0.0), count(256, 0.0);
       for (size_t j = 0; j < sub.size(); ++j)
         for (int y = 0; y < sub[j].rows; ++y)
           for (int x = 0; x < sub[j].cols; ++x) {
-            if (m.mask.at<uint8_t>(y, x)) continue;
+            if (m.mask.at<uint8_t>(y, x) || (!sub_clipped.empty() && sub_clipped[j].at<uint8_t>(y, x))) continue;
             const int z = sub[j].at<cv::Vec3b>(y, x)[c];
             sum[z] += m.radiance.at<cv::Vec3f>(y, x)[c] * times[j];
             count[z] += 1;

@@ -12,6 +12,7 @@
 #include <random>
 #include <unistd.h>
 
+#include "capture/clipping.h"
 #include "capture/exposure.h"
 #include "capture/raw.h"
 #include "capture/response.h"
@@ -142,6 +143,43 @@ TEST(Merge, ClippedAndNearBlackCodesGetZeroWeight) {
   EXPECT_EQ(all.mask.at<uint8_t>(0, 0), 255);
   EXPECT_FLOAT_EQ(all.radiance.at<cv::Vec3f>(0, 0)[0], 1.0f);
   EXPECT_DOUBLE_EQ(all.unreliable_fraction, 0.5);
+}
+
+TEST(Merge, ChannelLoweredNextToAClippedHighlightIsNotMeasured) {
+  // What JPEG's chroma subsampling does to a white highlight clipped in the
+  // long frame between green leaves: the long frame's blue decodes to 200,
+  // a code that looks valid. Weighted by t², it would win and put the blue
+  // 2.5× too low; the short frame alone measures that pixel, all channels,
+  // and so its neighbour within reach. Farther away the long frame counts.
+  cv::Mat shortf(1, 8, CV_8UC3, cv::Scalar::all(40)), longf(1, 8, CV_8UC3, cv::Scalar::all(160));
+  shortf.at<cv::Vec3b>(0, 2) = {120, 120, 120};
+  longf.at<cv::Vec3b>(0, 2) = {255, 255, 200};
+  longf.at<cv::Vec3b>(0, 3) = {160, 160, 150};  // chroma-smeared neighbour
+  MergeOptions jpeg;
+  jpeg.clip_reach = kJpegClipReach;
+  const MergeResult m = MergeBracket({shortf, longf}, {1.0, 4.0}, Linear8(), jpeg);
+  for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(m.radiance.at<cv::Vec3f>(0, 2)[c], 120.0f / 255) << c;
+  EXPECT_FLOAT_EQ(m.radiance.at<cv::Vec3f>(0, 3)[2], 40.0f / 255);
+  // x = 6 is 4 px from the highlight: both frames, 40/255 and 160/255/4 agree.
+  EXPECT_FLOAT_EQ(m.radiance.at<cv::Vec3f>(0, 6)[2], 40.0f / 255);
+  EXPECT_EQ(m.mask.at<uint8_t>(0, 2), 0);
+  // Per channel (the default, for lossless frames) the long frame's 200 is
+  // believed and wins: the blue the JPEG rule exists for.
+  const MergeResult per_channel = MergeBracket({shortf, longf}, {1.0, 4.0}, Linear8());
+  EXPECT_LT(per_channel.radiance.at<cv::Vec3f>(0, 2)[2], 0.5f * 120 / 255);
+  // Clipped in every frame: its neighbours within reach are measured by no
+  // frame either — flagged, with the shortest frame's value as their bound.
+  shortf.at<cv::Vec3b>(0, 2) = {255, 255, 255};
+  const MergeResult all = MergeBracket({shortf, longf}, {1.0, 4.0}, Linear8(), jpeg);
+  EXPECT_EQ(all.mask.at<uint8_t>(0, 4), 255);
+  EXPECT_FLOAT_EQ(all.radiance.at<cv::Vec3f>(0, 4)[0], 40.0f / 255);
+  EXPECT_EQ(all.mask.at<uint8_t>(0, 5), 0);
+  // 16-bit (linear, RAW-like) frames keep per-channel clipping even so: a
+  // channel below the clip level there is a measurement.
+  cv::Mat s16(1, 8, CV_16UC3, cv::Scalar::all(10000)), l16(1, 8, CV_16UC3, cv::Scalar::all(40000));
+  l16.at<cv::Vec3w>(0, 2) = {65535, 65535, 40000};
+  const MergeResult w = MergeBracket({s16, l16}, {1.0, 4.0}, ResponseCurve::Linear16(), jpeg);
+  EXPECT_NEAR(w.radiance.at<cv::Vec3f>(0, 2)[2], 10000.0 / 65535, 1e-6);
 }
 
 TEST(Merge, RejectsMismatchedBrackets) {

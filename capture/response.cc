@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "capture/clipping.h"
 #include "util/check.h"
 #include "util/json_int.h"
 
@@ -92,7 +93,10 @@ ResponseCurve RecoverResponseDebevec(const std::vector<cv::Mat>& frames, const s
       double W = 0, dl = 0;
       for (int j = 0; j < N; ++j) {
         zs[j] = frames[j].at<cv::Vec3b>(locs[i])[c];
-        w2[j] = weight(zs[j]) * weight(zs[j]);
+        // Not where the frame is clipped nearby (clipping.h).
+        w2[j] = IsClippedNearby(frames[j], locs[i].x, locs[i].y, kClippedCode8, opt.clip_reach)
+                    ? 0.0
+                    : weight(zs[j]) * weight(zs[j]);
         W += w2[j], dl += w2[j] * lt[j];
       }
       if (W == 0) continue;

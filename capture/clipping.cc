@@ -1,0 +1,39 @@
+#include "capture/clipping.h"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+
+#include "util/check.h"
+
+namespace brdfshot {
+
+std::vector<cv::Mat> ClippedNearby(const std::vector<cv::Mat>& frames, int clipped_code, int reach) {
+  std::vector<cv::Mat> out;
+  if (frames.empty() || frames[0].type() != CV_8UC3 || reach < 0) return out;
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * reach + 1, 2 * reach + 1));
+  for (const cv::Mat& f : frames) {
+    BRDFSHOT_CHECK(f.type() == CV_8UC3, "frames of one bracket share a type");
+    cv::Mat any(f.size(), CV_8U);
+    for (int y = 0; y < f.rows; ++y) {
+      const cv::Vec3b* p = f.ptr<cv::Vec3b>(y);
+      uint8_t* m = any.ptr<uint8_t>(y);
+      for (int x = 0; x < f.cols; ++x)
+        m[x] = (p[x][0] >= clipped_code || p[x][1] >= clipped_code || p[x][2] >= clipped_code) ? 255 : 0;
+    }
+    if (reach > 0) cv::dilate(any, any, kernel);
+    out.push_back(any);
+  }
+  return out;
+}
+
+bool IsClippedNearby(const cv::Mat& frame, int x, int y, int clipped_code, int reach) {
+  if (reach < 0 || frame.type() != CV_8UC3) return false;
+  for (int v = std::max(0, y - reach); v <= std::min(frame.rows - 1, y + reach); ++v) {
+    const cv::Vec3b* p = frame.ptr<cv::Vec3b>(v);
+    for (int u = std::max(0, x - reach); u <= std::min(frame.cols - 1, x + reach); ++u)
+      if (p[u][0] >= clipped_code || p[u][1] >= clipped_code || p[u][2] >= clipped_code) return true;
+  }
+  return false;
+}
+
+}  // namespace brdfshot
