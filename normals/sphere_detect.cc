@@ -37,9 +37,6 @@ constexpr double kMaxRimMisfit = 4.0;
 // A linear rim fit this rough (rms, px; the test is ≤ 1 px) may be pulled by a
 // terminator: the log-edge fit is tried too. Sharp rims fit to 0.1–0.4 px.
 constexpr double kMarginalRimRms = 0.6;
-}  // namespace
-
-namespace {
 
 constexpr float kLuminance[3] = {0.2126f, 0.7152f, 0.0722f};
 
@@ -222,6 +219,7 @@ std::vector<Circle> HoughCandidates(const cv::Mat& rgb, const SphereDetectOption
   if (o.colour_candidates && small.channels() == 3) {
     std::vector<cv::Mat> c;
     cv::split(small, c);
+    // The channels floored where the luminance is (its floor is its minimum).
     const float floor = static_cast<float>(std::exp(*std::min_element(views[0].begin<float>(), views[0].end<float>())));
     for (cv::Mat& m : c) {
       cv::max(m, floor, m);
