@@ -185,7 +185,7 @@ std::vector<Method> Methods(const CameraModel& cam, bool jpeg) {
          o.clip_reach = reach;
          return MergeBracket(f, t, TrueResponse(cam), o).radiance;
        }},
-      {"ours-perchannel", "brdfshot, each channel clipped on its own (lossless frames; JPEG before session 13)", false,
+      {"ours-perchannel", "brdfshot, each channel clipped on its own (as for lossless frames)", false,
        [](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
          MergeOptions o;
          o.clip_reach = -1;
