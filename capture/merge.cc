@@ -1,6 +1,8 @@
 #include "capture/merge.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
 
 #include "capture/clipping.h"
@@ -16,6 +18,7 @@ void CheckBracket(const std::vector<cv::Mat>& frames, const std::vector<double>&
   // is recovered from several exposures.
   if (frames.size() < 2 && frames[0].type() != CV_16UC3)
     throw Error("a bracket of 8-bit frames needs at least two frames, got " + std::to_string(frames.size()));
+  if (frames.size() > 64) throw Error("a bracket of " + std::to_string(frames.size()) + " frames: at most 64");
   if (times.size() != frames.size())
     throw Error(std::to_string(frames.size()) + " frames but " + std::to_string(times.size()) + " exposure times");
   const int type = frames[0].type();
@@ -165,12 +168,20 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
   for (int y = 0; y < rows; ++y) {
     cv::Vec3f* dst = out.radiance.ptr<cv::Vec3f>(y);
     uint8_t* m = out.mask.ptr<uint8_t>(y);
+    // This row of each frame's clipping mask (null: per channel), read once:
+    // the mask writes below may alias anything, so the compiler would not.
+    std::vector<const uint8_t*> clip_rows(N, nullptr);
+    if (!clipped.empty())
+      for (int j = 0; j < N; ++j) clip_rows[j] = clipped[j].ptr<uint8_t>(y);
     for (int x = 0; x < cols; ++x) {
       bool bad = false;
+      uint64_t skip = 0;  // bit j: frame j is clipped nearby here (≤ 64 frames, CheckBracket)
+      if (!clipped.empty())
+        for (int j = 0; j < N; ++j) skip |= (clip_rows[j][x] ? uint64_t{1} : 0) << j;
       for (int c = 0; c < 3; ++c) {
         double num = 0, den = 0;
         for (int j = 0; j < N; ++j) {
-          if (!clipped.empty() && clipped[j].ptr<uint8_t>(y)[x]) continue;
+          if (skip >> j & 1) continue;
           const int z = code(j, y, x, c);
           const double w = wz[c][z] * (t_power == 2 ? times[j] * times[j] : times[j]);
           num += w * lin[c][z] / times[j];
@@ -183,7 +194,7 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
         // Unmeasured: the bound the frames imply — bright when the shortest
         // frame is clipped there or nearby, dark otherwise.
         const int zs = code(shortest, y, x, c), zl = code(longest, y, x, c);
-        const bool bright = zs >= zhi || (!clipped.empty() && clipped[shortest].ptr<uint8_t>(y)[x]);
+        const bool bright = zs >= zhi || (skip >> shortest & 1);
         dst[x][c] = bright ? lin[c][zs] / static_cast<float>(times[shortest])
                            : lin[c][zl] / static_cast<float>(times[longest]);
         // A single linear frame's dark codes are still its measurement (there
@@ -239,6 +250,35 @@ ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vec
   // frames', sampled (sub_clipped), in the merge as in the sums below.
   if (clip_reach < 0) sub_clipped.clear();
   const MergeOptions opt;
+  // Robertson's update sets g(z) to the mean exposure of the samples showing
+  // z. A pixel that only one frame measures well (the blue of green leaves,
+  // dark wherever green is not clipped) merges to that frame's own reading,
+  // so its sample says nothing about g(z) — but with the noise weights and
+  // the monotone repair such samples let g drift: dark blue codes rose by
+  // e^1.2 in 3 iterations on a forest bracket, and the night scene's power
+  // came out 5.9 % off in bench-merge. So a sample counts only when some
+  // other frame measured its pixel's channel well (the weights' flat top).
+  const std::vector<float> taper = MakeTables(CV_8UC3, r, opt).taper;
+  auto well_measured = [&](size_t j, int y, int x, int c) {
+    return taper[sub[j].at<cv::Vec3b>(y, x)[c]] >= 1.0f && (sub_clipped.empty() || !sub_clipped[j].at<uint8_t>(y, x));
+  };
+  // evidence[j]: per sample and channel (CV_8UC3), whether a frame other
+  // than j measured that pixel's channel well.
+  std::vector<cv::Mat> evidence(sub.size());
+  {
+    cv::Mat count = cv::Mat::zeros(sub[0].size(), CV_8UC3);
+    for (size_t j = 0; j < sub.size(); ++j)
+      for (int y = 0; y < count.rows; ++y)
+        for (int x = 0; x < count.cols; ++x)
+          for (int c = 0; c < 3; ++c) count.at<cv::Vec3b>(y, x)[c] += well_measured(j, y, x, c) ? 1 : 0;
+    for (size_t j = 0; j < sub.size(); ++j) {
+      evidence[j].create(count.size(), CV_8UC3);
+      for (int y = 0; y < count.rows; ++y)
+        for (int x = 0; x < count.cols; ++x)
+          for (int c = 0; c < 3; ++c)
+            evidence[j].at<cv::Vec3b>(y, x)[c] = count.at<cv::Vec3b>(y, x)[c] > (well_measured(j, y, x, c) ? 1 : 0);
+    }
+  }
   for (int it = 0; it < iterations; ++it) {
     const MergeResult m = MergeWithClipping(sub, times, r, opt, sub_clipped);
     for (int c = 0; c < 3; ++c) {
@@ -248,6 +288,9 @@ ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vec
           for (int x = 0; x < sub[j].cols; ++x) {
             if (m.mask.at<uint8_t>(y, x) || (!sub_clipped.empty() && sub_clipped[j].at<uint8_t>(y, x))) continue;
             const int z = sub[j].at<cv::Vec3b>(y, x)[c];
+            // A sample is evidence about g(z) only if another frame pins its
+            // pixel's exposure; alone, it just returns g(z) to itself.
+            if (!evidence[j].at<cv::Vec3b>(y, x)[c]) continue;
             sum[z] += m.radiance.at<cv::Vec3f>(y, x)[c] * times[j];
             count[z] += 1;
           }

@@ -10,6 +10,8 @@
 #include "capture/merge.h"
 #include "capture/response.h"
 #include "util/check.h"
+#include "util/data_paths.h"
+#include "util/image_io.h"
 
 namespace brdfshot {
 namespace {
@@ -25,17 +27,22 @@ cv::Mat SmoothRadiance(int w, int h, double decades) {
   return e;
 }
 
-// Median over channels and pixels of |s·merged / truth − 1|, s the median ratio.
-double MedianRelativeError(const cv::Mat& merged, const cv::Mat& truth) {
+// Median of |s·merged / truth − 1|, s the median ratio.
+double MedianRelativeError(const std::vector<float>& merged, const std::vector<float>& truth) {
   std::vector<double> ratio, rel;
-  for (int i = 0; i < truth.rows * truth.cols * 3; ++i)
-    ratio.push_back(truth.ptr<float>()[i] / merged.ptr<float>()[i]);
+  for (size_t i = 0; i < truth.size(); ++i) ratio.push_back(truth[i] / merged[i]);
   std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
   const double s = ratio[ratio.size() / 2];
-  for (int i = 0; i < truth.rows * truth.cols * 3; ++i)
-    rel.push_back(std::abs(s * merged.ptr<float>()[i] / truth.ptr<float>()[i] - 1));
+  for (size_t i = 0; i < truth.size(); ++i) rel.push_back(std::abs(s * merged[i] / truth[i] - 1));
   std::nth_element(rel.begin(), rel.begin() + rel.size() / 2, rel.end());
   return rel[rel.size() / 2];
+}
+
+// The same over every channel and pixel of two images.
+double MedianRelativeError(const cv::Mat& merged, const cv::Mat& truth) {
+  const int n = truth.rows * truth.cols * 3;
+  return MedianRelativeError(std::vector<float>(merged.ptr<float>(), merged.ptr<float>() + n),
+                             std::vector<float>(truth.ptr<float>(), truth.ptr<float>() + n));
 }
 
 TEST(SyntheticBracket, TimesPutTheMedianAtEighteenPercent) {
@@ -63,6 +70,34 @@ TEST(SyntheticBracket, MergeRecoversRadianceThroughAnUnknownResponse) {
   cv::createCalibrateDebevec()->process(f, response, tf);
   cv::createMergeDebevec()->process(f, hdr, tf, response);
   EXPECT_LT(ours, MedianRelativeError(hdr, e));
+}
+
+// Real data: night.exr (mostly dark, a few lamps) through the default camera,
+// 9 frames 1 EV apart, as bench-merge shoots it. Much of the sky is measured
+// well by the longest frame alone; Robertson's refinement used to take those
+// samples as evidence about the curve, and its dark codes drifted (median
+// error 1.45 %, 95th pct 6.4 %, against 0.66 % and 1.9 % now).
+TEST(SyntheticBracket, ResponseDoesNotDriftWhereOneFrameAloneMeasures) {
+  const std::string path = DataPath("envmaps/night.exr");
+  if (path.empty()) GTEST_SKIP() << "envmaps/night.exr not found (BRDFSHOT_DATA or ../shared)";
+  cv::Mat e;
+  cv::resize(ReadHdrImage(path), e, cv::Size(1024, 512), 0, 0, cv::INTER_LINEAR);
+  const std::vector<double> t = BracketTimes(e, 9, 1);
+  const std::vector<cv::Mat> f = SimulateBracket(e, t, CameraModel{});
+  const MergeResult m = MergeBracket(f, t, RecoverResponse(f, t));
+  // Where the shortest frame is not clipped (the lamps are, in places).
+  std::vector<float> mv, tv;
+  const double tmin = *std::min_element(t.begin(), t.end());
+  for (int y = 0; y < e.rows; ++y)
+    for (int x = 0; x < e.cols; ++x)
+      for (int c = 0; c < 3; ++c)
+        if (e.at<cv::Vec3f>(y, x)[c] * tmin < 0.9) {
+          mv.push_back(m.radiance.at<cv::Vec3f>(y, x)[c]);
+          tv.push_back(e.at<cv::Vec3f>(y, x)[c]);
+        }
+  const double err = MedianRelativeError(mv, tv);
+  std::printf("night.exr 1024 x 512: median relative error %.4f\n", err);
+  EXPECT_LT(err, 0.01);
 }
 
 TEST(SyntheticBracket, NoiseIsEstimatedFromTheBracketItself) {
