@@ -85,7 +85,7 @@ cv::Mat ColourStepProjection(const cv::Mat& rgb) {
 }  // namespace
 
 std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
-                                          double r_hi, int rays, double* rim_blur, bool log_pick) {
+                                          double r_hi, int rays, double* rim_blur, bool log_pick, bool colour) {
   BRDFSHOT_CHECK((image.type() == CV_32F || image.type() == CV_32FC3) && rays > 0 && r_hi > r_lo && r_lo >= 0);
   const double step = 0.25;  // pixels along the ray
   const int n = static_cast<int>((r_hi - r_lo) / step) + 1;
@@ -106,9 +106,9 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
   // piecewise linear, and their raw differences would lock onto pixel edges.
   cv::GaussianBlur(prof, prof, cv::Size(9, 1), 2.0, 0, cv::BORDER_REPLICATE);
   // One channel per ray from the samples only (a 12 MP photo is never
-  // converted whole): luminance, or for linear picks the colour projection
-  // that shows this ray's rim best (ColourStepProjection).
-  if (prof.channels() == 3) prof = log_pick ? Luminance(prof) : ColourStepProjection(prof);
+  // converted whole): luminance, or with `colour` for linear picks the
+  // projection that shows this ray's rim best (ColourStepProjection).
+  if (prof.channels() == 3) prof = colour && !log_pick ? ColourStepProjection(prof) : Luminance(prof);
   std::vector<double> strength(rays, 0.0), where(rays, -1.0);
   // Log picks: the samples floored at 1 % of their 99th percentile, as
   // LogLuminance does, so a black background's noise makes no edges.
@@ -211,12 +211,12 @@ std::vector<Circle> HoughCandidates(const cv::Mat& rgb, const SphereDetectOption
     small = f;
   }
   const double scale0 = double(small.cols) / rgb.cols;
-  // Log luminance, and with colour_candidates the colour ratios log(R/G) and
+  // Log luminance, and with colour_rims the colour ratios log(R/G) and
   // log(B/G), where a sphere against a background of the same luminance but
   // another colour (a red ball before green leaves) still has its whole rim.
   // Hough on luminance alone put such a ball's circle 27 px off.
   std::vector<cv::Mat> views{LogLuminance(small)};
-  if (o.colour_candidates && small.channels() == 3) {
+  if (o.colour_rims && small.channels() == 3) {
     std::vector<cv::Mat> c;
     cv::split(small, c);
     // The channels floored where the luminance is (its floor is its minimum).
@@ -262,14 +262,14 @@ struct RankedCircle {
 // usually the largest closed rim in the picture: they are ranked by the rim's
 // supported length, not its fraction (a small disc is as round).
 std::vector<RankedCircle> RankByRimSupport(const cv::Mat& lin, const std::vector<Circle>& cands, bool log_pick,
-                                           double* best_support) {
+                                           bool colour, double* best_support) {
   std::vector<RankedCircle> out;
   *best_support = 0;
   for (size_t i = 0; i < std::min<size_t>(cands.size(), 40); ++i) {
     Circle c = cands[i];
     const double band = std::max(4.0, 0.06 * c.r);
     const std::vector<cv::Point2d> pts =
-        RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90, nullptr, log_pick);
+        RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90, nullptr, log_pick, colour);
     // Hough's circle can be a band's width off (the coarser scale's are):
     // the rim is counted around a robust fit to the edges it found, when that
     // fit stays near the candidate.
@@ -310,7 +310,7 @@ bool RefineRim(const cv::Mat& lin, const Circle& coarse, const SphereDetectOptio
     const double band = pass == 0 ? std::max(8.0, 0.12 * c.r) : pass == 1 ? std::max(6.0, 0.03 * c.r) + ellipse
                                                                            : 14.0 + ellipse;
     det->edge_points = RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - band), c.r + band, o.rays,
-                                        pass == 2 ? &det->blur_sigma : nullptr, o.log_edges);
+                                        pass == 2 ? &det->blur_sigma : nullptr, o.log_edges, o.colour_rims);
     if (det->perspective) {
       det->cone = FitConeRobust(det->edge_points, o.focal_px, det->principal, &det->quality);
       c = ApparentCircle(det->cone, o.focal_px, det->principal);
@@ -393,7 +393,7 @@ SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOption
   // blurred step's steepest point is the step. In log it shifts towards the
   // darker side by a fraction of the blur (0.3–0.5 px measured here).
   double best_support = 0;
-  std::vector<RankedCircle> ranked = RankByRimSupport(lin, cands, o.log_edges, &best_support);
+  std::vector<RankedCircle> ranked = RankByRimSupport(lin, cands, o.log_edges, o.colour_rims, &best_support);
   const bool picked = o.near.x >= 0;
   if (picked) {
     // The user's point chooses among the spheres: only circles around it.
@@ -509,12 +509,14 @@ SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
   try {
     return DetectWithLogFallback(rgb, o);
   } catch (const NoSphereFound& first) {
-    // Circles from the colour ratios too: a fallback, as the extra Hough
-    // views and candidates cost ~40 ms a photo and luminance finds every
-    // sphere in bench-detect's scenes.
-    if (o.colour_candidates || rgb.channels() != 3) throw;
+    // Rims in colour: a fallback. The extra Hough views and candidates cost
+    // ~40 ms a photo, luminance finds every sphere in bench-detect's scenes,
+    // and a JPEG's colour is at half its resolution (4:2:0): profiles
+    // projected on their colour step put the default capture's rim 0.19 px
+    // inside, against 0.08 px in luminance.
+    if (o.colour_rims || rgb.channels() != 3) throw;
     SphereDetectOptions colour = o;
-    colour.colour_candidates = true;
+    colour.colour_rims = true;
     try {
       return DetectWithLogFallback(rgb, colour);
     } catch (const NoSphereFound&) {

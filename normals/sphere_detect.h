@@ -5,8 +5,8 @@
 //     ratios too), candidates ranked by how many radial rays find an edge
 //     near their rim (clutter makes circles too; a sphere's rim is closed).
 //  2. Sub-pixel: along `rays` radial profiles through the full-resolution
-//     image (each ray's colour projected on the direction of its own step,
-//     so a rim in colour counts as much as one in luminance), the edge is the
+//     image (luminance; in the colour fallback each ray's colour projected on
+//     its own step, so a rim in colour counts as one in luminance), the edge is the
 //     peak of the profile's derivative, interpolated by a parabola, then the
 //     rim model's (rim_profile.h); the points are fitted robustly
 //     (FitCircleRobust, or the perspective cone when the focal length is
@@ -38,9 +38,11 @@ struct SphereDetectOptions {
   // Pick each ray's edge in log luminance (see DetectSphere). Off: tried when
   // the linear picks find no sphere.
   bool log_edges = false;
-  // Coarse circles from the colour ratios log(R/G), log(B/G) as well as from
-  // log luminance. Off: tried when luminance finds no sphere.
-  bool colour_candidates = false;
+  // Rims in colour: coarse circles from the colour ratios log(R/G), log(B/G)
+  // as well as from log luminance, and each ray's profile projected on its
+  // colour step instead of luminance. Off: tried when luminance finds no
+  // sphere (JPEG's colour has half its resolution).
+  bool colour_rims = false;
 };
 
 
@@ -76,12 +78,12 @@ class NoSphereFound : public Error {
 // log luminance, which finds a rim partly in attached shadow, and the better
 // fit wins (rim_in_shadow is then set; DiLiGenT's ball: 29 of its 96 lights
 // found linearly, 89 with log edges, all within 0.9 px). When neither finds
-// a sphere, both again with colour_candidates.
+// a sphere, both again with colour_rims.
 SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& options = {});
 
 // Edge points along `rays` radial profiles of `image` (float, one channel or
-// RGB — then per ray the colour projection that shows its step best, or the
-// luminance for log picks)
+// RGB — then the luminance, or with `colour` per ray the colour projection
+// that shows its step best; luminance for log picks)
 // between radii r_lo and r_hi around `centre` (continuous coordinates): the
 // steepest point of each, or — when `rim_blur` is given — the rim model's fit
 // (rim_profile.h) around it, with the blur it estimated written there. Rays
@@ -89,10 +91,11 @@ SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& opti
 // `log_pick`: the steepest point in log luminance instead (its strength still
 // linear), for rims whose linear steepest point is a shading terminator.
 std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
-                                          double r_hi, int rays, double* rim_blur = nullptr, bool log_pick = false);
+                                          double r_hi, int rays, double* rim_blur = nullptr, bool log_pick = false,
+                                          bool colour = false);
 
 // OpenCV's HoughCircles on the reduced log luminance (and colour ratios with
-// options.colour_candidates) of an RGB image: the coarse candidates. Empty
+// options.colour_rims) of an RGB image: the coarse candidates. Empty
 // vector if it finds nothing.
 std::vector<Circle> HoughCandidates(const cv::Mat& rgb, const SphereDetectOptions& options);
 
