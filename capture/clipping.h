@@ -7,8 +7,10 @@
 // too dark measurement — in a merge weighted by t², the longest frame's, so
 // it wins (the sun through forest.exr's leaves merged with blue 100× too
 // low), and in response recovery it ties code 200 to a huge exposure. So for
-// JPEG frames a frame does not count at a pixel when any channel within
-// `reach` px of it is clipped; the shorter frames measure that pixel.
+// JPEG frames a frame does not count at a pixel when, within `reach` px of
+// it, a pixel has two or more channels clipped (a highlight near white; one
+// clipped channel is a saturated colour, whose other channels are sound);
+// the shorter frames measure that pixel.
 // Lossless 8-bit frames (PNG, TIFF) keep per-channel clipping: on them the
 // rule only throws good samples away (bench-merge: median error 0.66 → 0.73 %).
 #pragma once
@@ -26,7 +28,7 @@ constexpr int kClippedCode8 = 249;
 constexpr int kJpegClipReach = 2;
 
 // One CV_8U mask per frame, 255 within `reach` px (Chebyshev) of a pixel
-// with any channel ≥ `clipped_code`. Empty for 16-bit frames (RAW, linear:
+// with two or more channels ≥ `clipped_code`. Empty for 16-bit frames (RAW, linear:
 // no chroma subsampling, channels clip on their own) and for reach < 0.
 std::vector<cv::Mat> ClippedNearby(const std::vector<cv::Mat>& frames, int clipped_code, int reach);
 
