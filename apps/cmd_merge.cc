@@ -145,14 +145,7 @@ int MergeMain(int argc, char** argv) {
   std::string camera;
   double focal_35mm = 0;  // the first frame's that says
   const bool raw = IsRaw(files[0]);
-  // JPEG frames: a clipped highlight's chroma lowers its neighbours' codes
-  // (capture/clipping.h).
   bool jpeg = false;
-  // A light probe's power sits in a few small, clipped sources: there the
-  // clipping rule (capture/clipping.h) is worth the samples it drops. On a
-  // sphere's photo it dropped more than it saved (samples_test's rotated
-  // capture: relit error 3.9 % with the rule on the probe only, 5.3 % on both).
-  const bool clip_nearby = probe;
   for (size_t j = 0; j < files.size(); ++j) {
     const std::string& f = files[j];
     if (IsRaw(f) != raw) throw FileError(f, "mixes RAW and non-RAW frames in one bracket");
@@ -231,18 +224,24 @@ int MergeMain(int argc, char** argv) {
       throw FileError(files[longest], "is black everywhere, and it is the longest exposure of the bracket: "
                                       "nothing was measured; shoot longer exposures");
   }
+  // A JPEG light probe: its power sits in a few small, clipped sources, whose
+  // other channels JPEG lowers (capture/clipping.h), so there the clipping
+  // rule is worth the samples it drops. On a sphere's photo it dropped more
+  // than it saved (samples_test's rotated capture: relit error 3.9 % with the
+  // rule on the probe only, 5.3 % on both).
+  const int clip_reach = jpeg && probe ? kJpegClipReach : -1;
   ResponseCurve response;
   if (!response_in.empty()) {
     response = ResponseCurve::FromJson(ReadJsonFile(response_in), response_in);
   } else if (frames[0].depth() == CV_8U) {
-    response = RecoverResponse(frames, exposure, 3, 200000, jpeg && clip_nearby ? kJpegClipReach : -1);
+    response = RecoverResponse(frames, exposure, 3, 200000, clip_reach);
   } else {
     response = ResponseCurve::Linear16();
   }
   if (!response_out.empty())
     WriteFileAtomic(response_out, [&](std::ostream& o) { o << response.ToJson().dump(1) << "\n"; });
   MergeOptions merge_options;
-  if (jpeg && clip_nearby) merge_options.clip_reach = kJpegClipReach;
+  merge_options.clip_reach = clip_reach;
   const MergeResult m = MergeBracket(frames, exposure, response, merge_options);
   double max_radiance = 0;
   cv::minMaxLoc(m.radiance.reshape(1), nullptr, &max_radiance);
@@ -257,7 +256,7 @@ int MergeMain(int argc, char** argv) {
   });
   const nlohmann::json side = {{"format", "brdfshot-merge-1"}, {"frames", frames_json}, {"camera", camera},
                                {"focal_35mm", focal_35mm}, {"response", response.ToJson()}, {"raw", raw}, {"aligned", align},
-                               {"unreliable_fraction", m.unreliable_fraction}, {"output", out},
+                               {"unreliable_fraction", m.unreliable_fraction}, {"clip_reach", clip_reach}, {"output", out},
                                {"mask", mask_out}, {"half", half},
                                {"response_plot", plotted ? plot_out : ""}, {"command", CommandLine(argc, argv)}};
   WriteFileAtomic(sidecar, [&](std::ostream& o) { o << side.dump(1) << "\n"; });

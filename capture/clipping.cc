@@ -25,15 +25,15 @@ std::vector<cv::Mat> ClippedNearby(const std::vector<cv::Mat>& frames, int clipp
   const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * reach + 1, 2 * reach + 1));
   for (const cv::Mat& f : frames) {
     BRDFSHOT_CHECK(f.type() == CV_8UC3, "frames of one bracket share a type");
-    cv::Mat any(f.size(), CV_8U);
+    cv::Mat mask(f.size(), CV_8U);
     for (int y = 0; y < f.rows; ++y) {
       const cv::Vec3b* p = f.ptr<cv::Vec3b>(y);
-      uint8_t* m = any.ptr<uint8_t>(y);
+      uint8_t* m = mask.ptr<uint8_t>(y);
       for (int x = 0; x < f.cols; ++x)
         m[x] = ClippedHighlight(p[x], clipped_code) ? 255 : 0;
     }
-    if (reach > 0) cv::dilate(any, any, kernel);
-    out.push_back(any);
+    if (reach > 0) cv::dilate(mask, mask, kernel);
+    out.push_back(mask);
   }
   return out;
 }

@@ -1,4 +1,4 @@
-// Where a bracket's 8-bit frames are clipped, for all channels at once.
+// Where a light probe's 8-bit JPEG frames are clipped, for all channels at once.
 //
 // JPEG's chroma subsampling spreads a clipped highlight's colour over 2×2
 // blocks (and their upsampling over one more pixel), and so lowers codes the
@@ -7,12 +7,13 @@
 // too dark measurement — in a merge weighted by t², the longest frame's, so
 // it wins (the sun through forest.exr's leaves merged with blue 100× too
 // low), and in response recovery it ties code 200 to a huge exposure. So for
-// JPEG frames a frame does not count at a pixel when, within `reach` px of
+// a JPEG light probe (merge --probe) a frame does not count at a pixel when, within `reach` px of
 // it, a pixel has two or more channels clipped (a highlight near white; one
 // clipped channel is a saturated colour, whose other channels are sound);
 // the shorter frames measure that pixel.
 // Lossless 8-bit frames (PNG, TIFF) keep per-channel clipping: on them the
-// rule only throws good samples away (bench-merge: median error 0.66 → 0.73 %).
+// rule only throws good samples away (bench-merge: median error 0.66 → 0.73 %);
+// so does a sphere's photo, where it cost more than it saved (merge.cc).
 #pragma once
 
 #include <opencv2/core.hpp>

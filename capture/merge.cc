@@ -124,14 +124,18 @@ NoiseModel EstimateNoise(const std::vector<cv::Mat>& frames, const std::vector<d
 
 namespace {
 
-// MergeBracket, with `clipped` (one mask per frame, or empty: per channel)
-// saying where each frame does not count.
+// MergeBracket, with `given_clipped` (one mask per frame, or empty: per
+// channel) saying where each frame does not count; null: opt.clip_reach's.
 MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
                               const ResponseCurve& response, const MergeOptions& opt,
-                              const std::vector<cv::Mat>& clipped) {
+                              const std::vector<cv::Mat>* given_clipped) {
   const int type = frames[0].type();
   const CodeTables T = MakeTables(type, response, opt);
   const int levels = T.levels, zlo = T.zlo, zhi = T.zhi;
+  // A frame does not count where it is clipped nearby (clipping.h: JPEG
+  // lowers the codes around a clipped highlight). Empty: per channel.
+  const std::vector<cv::Mat> clipped =
+      given_clipped ? *given_clipped : ClippedNearby(frames, zhi, opt.clip_reach);
   const auto& lin = T.lin;
   const NoiseModel noise =
       opt.weights == MergeWeights::kNoise && opt.estimate_noise ? EstimateNoise(frames, times, response, opt) : opt.noise;
@@ -213,10 +217,7 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
 MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
                          const ResponseCurve& response, const MergeOptions& opt) {
   CheckBracket(frames, times);
-  // A frame does not count where it is clipped nearby (clipping.h: JPEG
-  // lowers the codes around a clipped highlight). Empty: per channel.
-  const int zhi = MakeTables(frames[0].type(), response, opt).zhi;
-  return MergeWithClipping(frames, times, response, opt, ClippedNearby(frames, zhi, opt.clip_reach));
+  return MergeWithClipping(frames, times, response, opt, nullptr);
 }
 
 }  // namespace brdfshot
@@ -280,7 +281,7 @@ ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vec
     }
   }
   for (int it = 0; it < iterations; ++it) {
-    const MergeResult m = MergeWithClipping(sub, times, r, opt, sub_clipped);
+    const MergeResult m = MergeWithClipping(sub, times, r, opt, &sub_clipped);
     for (int c = 0; c < 3; ++c) {
       std::vector<double> sum(256, 0.0), count(256, 0.0);
       for (size_t j = 0; j < sub.size(); ++j)

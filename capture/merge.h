@@ -35,9 +35,9 @@ struct MergeOptions {
   MergeWeights weights = MergeWeights::kNoise;
   bool estimate_noise = true;  // kNoise: EstimateNoise from the bracket, else `noise`
   NoiseModel noise;
-  // 8-bit frames: a frame does not count where any channel within this many
-  // pixels is clipped — kJpegClipReach for JPEG frames (clipping.h: JPEG
-  // lowers codes around a clipped highlight); < 0: each channel on its own.
+  // 8-bit frames: a frame does not count within this many pixels of a pixel
+  // with two channels clipped — kJpegClipReach for JPEG light probes
+  // (clipping.h: JPEG lowers the third); < 0: each channel on its own.
   int clip_reach = -1;
 };
 
@@ -73,8 +73,8 @@ namespace brdfshot {
 // of E·t over every frame sample showing that code. Debevec alone is biased
 // where noise is large (it fits ln g to noisy codes); the linear-domain mean
 // is not. Codes never seen keep Debevec's value; the result is made monotone.
-// `clip_reach` as MergeOptions' (kJpegClipReach for JPEG frames): samples
-// clipped nearby in a frame are not used.
+// `clip_reach` as MergeOptions' (kJpegClipReach for JPEG light probes):
+// samples clipped nearby in a frame are not used.
 ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
                               int iterations = 3, int pixels = 200000, int clip_reach = -1);
 

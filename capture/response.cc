@@ -75,6 +75,12 @@ ResponseCurve RecoverResponseDebevec(const std::vector<cv::Mat>& frames, const s
     }
   }
   const int S = static_cast<int>(locs.size());
+  // Samples clipped nearby in a frame (clipping.h), for all channels at once.
+  std::vector<std::vector<bool>> clipped(S, std::vector<bool>(N, false));
+  if (opt.clip_reach >= 0)
+    for (int i = 0; i < S; ++i)
+      for (int j = 0; j < N; ++j)
+        clipped[i][j] = IsClippedNearby(frames[j], locs[i].x, locs[i].y, kClippedCode8, opt.clip_reach);
   ResponseCurve r;
   r.kind = "debevec";
   r.levels = Z;
@@ -93,10 +99,7 @@ ResponseCurve RecoverResponseDebevec(const std::vector<cv::Mat>& frames, const s
       double W = 0, dl = 0;
       for (int j = 0; j < N; ++j) {
         zs[j] = frames[j].at<cv::Vec3b>(locs[i])[c];
-        // Not where the frame is clipped nearby (clipping.h).
-        w2[j] = IsClippedNearby(frames[j], locs[i].x, locs[i].y, kClippedCode8, opt.clip_reach)
-                    ? 0.0
-                    : weight(zs[j]) * weight(zs[j]);
+        w2[j] = clipped[i][j] ? 0.0 : weight(zs[j]) * weight(zs[j]);
         W += w2[j], dl += w2[j] * lt[j];
       }
       if (W == 0) continue;

@@ -30,7 +30,7 @@ struct DebevecOptions {
   int samples = 5000;      // pixel locations (ln E eliminated: cost does not grow with them)
   double lambda = 30;      // smoothness, per 200 samples (scaled by √(samples/200))
   uint32_t seed = 7;
-  int clip_reach = -1;     // ≥ 0 (JPEG): samples clipped nearby in a frame are left out (clipping.h)
+  int clip_reach = -1;     // ≥ 0 (JPEG light probes): samples clipped nearby in a frame are left out (clipping.h)
 };
 
 // `frames`: CV_8UC3, same size; `times`: relative exposures. Error when fewer

@@ -9,16 +9,24 @@
 #include "util/check.h"
 
 namespace brdfshot {
+namespace {
+
+// Rec. 709 luminance weights, for linear RGB.
+constexpr float kLuminance[3] = {0.2126f, 0.7152f, 0.0722f};
+
+cv::Mat Luminance(const cv::Mat& rgb) {
+  cv::Mat lum;
+  cv::transform(rgb, lum, cv::Matx13f(kLuminance[0], kLuminance[1], kLuminance[2]));
+  return lum;
+}
+
+}  // namespace
 
 cv::Mat LogLuminance(const cv::Mat& rgb) {
   BRDFSHOT_CHECK(rgb.channels() == 3 || rgb.channels() == 1);
-  cv::Mat f, lum;
+  cv::Mat f;
   rgb.convertTo(f, CV_32F);
-  if (f.channels() == 3) {
-    cv::transform(f, lum, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
-  } else {
-    lum = f;
-  }
+  cv::Mat lum = f.channels() == 3 ? Luminance(f) : f;
   // 99th percentile from a subsample: the floor needs no more precision.
   std::vector<float> s;
   const int step = std::max(1, static_cast<int>(std::sqrt(lum.total() / 20000.0)));
@@ -37,14 +45,6 @@ constexpr double kMaxRimMisfit = 4.0;
 // A linear rim fit this rough (rms, px; the test is ≤ 1 px) may be pulled by a
 // terminator: the log-edge fit is tried too. Sharp rims fit to 0.1–0.4 px.
 constexpr double kMarginalRimRms = 0.6;
-
-constexpr float kLuminance[3] = {0.2126f, 0.7152f, 0.0722f};
-
-cv::Mat Luminance(const cv::Mat& rgb) {
-  cv::Mat lum;
-  cv::transform(rgb, lum, cv::Matx13f(kLuminance[0], kLuminance[1], kLuminance[2]));
-  return lum;
-}
 
 // Each row (a ray's RGB profile) projected on w ∝ ℓ ⊙ Δ, Δ its colour step
 // at the steepest point, ℓ the luminance weights, |w|₁ = 1. Across a grey

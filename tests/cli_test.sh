@@ -135,6 +135,14 @@ check bench-merge 0 "wrote" -- "$B" bench-merge --probes "$PROBE" --size 128x64 
 "$B" synth-capture --probe "$PROBE" --standin demo-red-plastic $DB --size 320x240 --radius 70 --focal-px 480 \
   --probe-shot-width 64 -o "$T/fcap" >/dev/null && "$B" merge "$T/fcap/photo" -o "$T/fp.exr" >/dev/null
 grep -q '"focal_35mm": 54.0' "$T/fp.json" && pass=$((pass+1)) || { echo "FAIL merge sidecar focal_35mm"; fail=$((fail+1)); }
+# merge --probe on JPEG frames: the clipping rule (capture/clipping.h) is on,
+# recorded in the sidecar, and changes the studio's clipped lamps; without it
+# (and on the photo) the merge is per channel.
+"$B" merge "$T/fcap/probe" -o "$T/pp0.exr" >/dev/null && "$B" merge "$T/fcap/probe" --probe -o "$T/pp1.exr" >/dev/null
+grep -q '"clip_reach": 2' "$T/pp1.json" && grep -q '"clip_reach": -1' "$T/pp0.json" && pass=$((pass+1)) ||
+  { echo "FAIL merge --probe clip_reach in the sidecars"; fail=$((fail+1)); }
+pd=$("$B" compare "$T/pp0.exr" "$T/pp1.exr" | sed -n 's/relative RMSE \([0-9.]*\).*/\1/p')
+awk -v e="$pd" 'BEGIN{exit !(e != "" && e > 0)}' && pass=$((pass+1)) || { echo "FAIL merge --probe changed nothing ('$pd')"; fail=$((fail+1)); }
 check normals-exif-focal 0 "(perspective, f 480 px from the EXIF 35 mm focal length in $T/fp.json)" -- "$B" normals "$T/fp.exr" --merge "$T/fp.json" -o "$T/fs.json"
 c=$(sed -n 's/.*centre (\([0-9.]*\), \([0-9.]*\)).*/\1 \2/p' <<<"$out")
 awk -v c="$c" 'BEGIN{split(c,a," "); exit !((a[1]-176.0)^2+(a[2]-110.4)^2 < 0.09)}' && pass=$((pass+1)) || { echo "FAIL EXIF-focal centre '$c', truth 176.0 110.4"; fail=$((fail+1)); }
