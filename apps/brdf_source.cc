@@ -5,10 +5,12 @@
 #include <nlohmann/json.hpp>
 
 #include "fit/database.h"
+#include "fit/photo_fit.h"
 #include "fit/nbrdf.h"
 #include "fit/standin.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/data_paths.h"
 
 namespace brdfshot {
 namespace po = boost::program_options;
@@ -30,35 +32,26 @@ MerlBrdf BrdfSourceArgs::Load(const DatabaseArgs& db, std::string* label) const 
   }
   DatabaseOptions opt = db.ToOptions(false);
   if (!weights.empty()) {
-    const nlohmann::json j = ReadJsonFile(weights);
-    try {
-      opt.kind = j.at("database_kind");
-      const auto g = j.at("grid");
-      opt.grid = MerlGrid{g.at(0), g.at(1), g.at(2)};
-      const auto names = j.at("bases").get<std::vector<std::string>>();
-      const auto w = j.at("weights").get<std::vector<std::array<double, 3>>>();
-      opt.only = MaterialsOfBases(names);
-      const BasisDatabase base = LoadDatabase(opt);
-      if (static_cast<size_t>(base.num_bases()) != w.size()) throw FileError(weights, "weights do not match the bases");
-      Eigen::MatrixXd W(w.size(), 3);
-      for (size_t i = 0; i < w.size(); ++i)
-        for (int c = 0; c < 3; ++c) W(i, c) = w[i][c];
-      *label = "fit " + weights + " over " + base.label;
-      return CombineBases(base, W);
-    } catch (const nlohmann::json::exception& e) {
-      throw FileError(weights, std::string("not a fit.json: ") + e.what());
-    }
+    std::string what;
+    const MerlBrdf brdf = BrdfOfFit(FitRecord::Read(weights), opt, &what);
+    *label = weights + " (" + what + ")";
+    return brdf;
   }
   std::string folder;
   if (!standin.empty()) {
     opt.kind = "standin";
     ResolveDatabaseKind(opt, &folder);
-    for (const auto& m : ReadStandinTable(folder + "/materials.tsv"))
-      if (m.name == standin) {
-        *label = standin + " (stand-in)";
-        return m.ToMerl(opt.grid);
-      }
-    throw Error("no stand-in material '" + standin + "'");
+    // The data folder's table first, then the repository's demo materials.
+    std::vector<std::string> tables = {folder + "/materials.tsv"};
+    if (const std::string own = AssetPath("standin/materials.tsv"); !own.empty()) tables.push_back(own);
+    for (const std::string& table : tables)
+      for (const auto& m : ReadStandinTable(table))
+        if (m.name == standin) {
+          *label = standin + " (stand-in)";
+          return m.ToMerl(opt.grid);
+        }
+    throw Error("no stand-in material '" + standin + "' in " + tables[0] +
+                (tables.size() > 1 ? " nor " + tables[1] : std::string()));
   }
   opt.kind = "nbrdf";
   ResolveDatabaseKind(opt, &folder);
@@ -66,11 +59,14 @@ MerlBrdf BrdfSourceArgs::Load(const DatabaseArgs& db, std::string* label) const 
   return NbrdfToMerl(NbrdfNetwork::Load(folder + "/npy", nbrdf), opt.grid);
 }
 
-std::string BrdfSourceArgs::ToArgs() const {
-  if (!standin.empty()) return "--standin " + standin;
-  if (!nbrdf.empty()) return "--nbrdf " + nbrdf;
+std::string BrdfSourceArgs::ToArgs(const DatabaseArgs& db) const {
   if (!merl.empty()) return "--merl " + std::filesystem::absolute(merl).string();
-  return "--weights " + std::filesystem::absolute(weights).string();
+  std::string args = !standin.empty() ? "--standin " + standin
+                     : !nbrdf.empty() ? "--nbrdf " + nbrdf
+                                      : "--weights " + std::filesystem::absolute(weights).string();
+  if (!db.data.empty()) args += " --data " + std::filesystem::absolute(db.data).string();
+  if (!db.merl_dir.empty()) args += " --merl-dir " + std::filesystem::absolute(db.merl_dir).string();
+  return args + " --grid " + db.grid;
 }
 
 }  // namespace brdfshot

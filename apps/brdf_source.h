@@ -15,9 +15,11 @@ struct BrdfSourceArgs {
   void Add(boost::program_options::options_description& d);
   // Exactly one source must be given; the grid comes from `db` for named materials.
   MerlBrdf Load(const DatabaseArgs& db, std::string* label) const;
-  // The given source as command-line options ("--nbrdf red-plastic"), file
-  // paths made absolute: how a capture folder records its true material.
-  std::string ToArgs() const;
+  // The given source as command-line options ("--nbrdf red-plastic --grid
+  // 90x90x180"), with the data folder and file paths made absolute: how a
+  // capture folder records its true material, renderable from anywhere
+  // whatever database a fit uses.
+  std::string ToArgs(const DatabaseArgs& db) const;
 };
 
 }  // namespace brdfshot

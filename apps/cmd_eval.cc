@@ -52,9 +52,9 @@ int EvalMain(int argc, char** argv) {
   LooInputs in;
   in.materials = base.materials;
   Stopwatch sw;
-  in.gram = GramMatrix(base.B);
-  const std::vector<float> cosw = CosineWeights(base.grid);
-  in.gram_cos = GramMatrix(base.B, &cosw);
+  DatabaseGrams grams = LoadDatabaseGrams(db.ToOptions(false));
+  in.gram = std::move(grams.gram);
+  in.gram_cos = std::move(grams.gram_cos);
   const double t_gram = sw.Seconds();
 
   const PixelGeometry geometry = OrthographicSphere(sphere, margin);
@@ -65,7 +65,7 @@ int EvalMain(int argc, char** argv) {
     const TransportOperator t = TransportOperator::Build(geometry, probe, base.grid, quality.q);
     SceneFactors s;
     s.probe = probe.name();
-    s.f = FactorBasisImages(t.Apply(base.B));
+    s.f = FactorBasisImages(t.Apply(base.B), true);
     in.scenes.push_back(std::move(s));
     t_basis.push_back(ps.Seconds());
     std::fprintf(stderr, "basis images: %s, %zu pixels x %d bases, %d theta_o levels, %.2f s\n",

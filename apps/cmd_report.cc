@@ -12,6 +12,7 @@
 #include "apps/command.h"
 #include "fit/plots.h"
 #include "normals/sphere_view.h"
+#include "fit/photo_fit.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_error.h"
@@ -121,18 +122,20 @@ int ReportMain(int argc, char** argv) {
   // The fit: class, residual per class, reconstruction.
   const fs::path fit_json = r / "fit" / "fit.json";
   if (fs::exists(fit_json)) {
-    const nlohmann::json f = ReadJsonFile(fit_json.string());
-    md << "\n## Fit\n\n- database: " << f.value("database", "?") << ", " << f["bases"].size() << " bases, λ = "
-       << f.value("lambda", 0.0) << "\n- chosen class **" << f.value("chosen_class", -1)
-       << "**, relative residual " << f.value("relative_residual", 0.0) << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary")
-       << "` (MERL format), weights `" << rel(fit_json) << "`\n\n| class | bases | residual (Σ RGB) | condition (G) |\n|---|---|---|---|\n";
+    const FitRecord f = FitRecord::Read(fit_json.string());
+    md << "\n## Fit\n\n- database: " << f.database << ", " << f.bases.size() << " bases\n- regularisation λ = "
+       << f.lambda << " (" << (f.lambda_rule == "fixed" ? std::string("fixed by --lambda") : "chosen by " + f.lambda_rule + " on the photo's pixels")
+       << "); predicted relit error " << Fixed(f.predicted_relit_error, 4) << "\n- chosen class **" << f.chosen_class
+       << "**, relative residual " << f.relative_residual << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary")
+       << "` (MERL format), weights `" << rel(fit_json) << "`\n\n| class | bases | residual (Σ RGB) | condition (G) | solver |\n|---|---|---|---|---|\n";
     std::vector<std::vector<double>> bars;
     std::vector<std::string> groups;
-    for (const auto& c : f["classes"]) {
-      md << "| " << c["class"] << (c["class"] == f["chosen_class"] ? " (chosen)" : "") << " | " << c["members"] << " | "
-         << c["residual"].get<double>() << " | " << c["condition"][1].get<double>() << " |\n";
-      bars.push_back({c["residual"].get<double>()});
-      groups.push_back("class " + c["class"].dump());
+    for (size_t k = 0; k < f.classes.size(); ++k) {
+      const auto& c = f.classes[k];
+      md << "| " << k << (static_cast<int>(k) == f.chosen_class ? " (chosen)" : "") << " | " << c.members << " | "
+         << c.residual << " | " << c.condition << " | " << c.path << " |\n";
+      bars.push_back({c.residual});
+      groups.push_back("class " + std::to_string(k));
     }
     WritePng((pics / "residuals.png").string(), BarPlot(bars, groups, {"residual"}, "residual per class (lowest is chosen)"));
     md << "\n![residuals](" << rel(pics / "residuals.png") << ")\n\nphoto (left) and the fit in the photo's lighting (right):\n\n![photo vs fit]("

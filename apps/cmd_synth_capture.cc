@@ -148,7 +148,7 @@ int SynthCaptureMain(int argc, char** argv) {
   WriteExr((dir / "truth" / "probe.exr").string(), pano.rgb());
   WriteFileAtomic((dir / "truth" / "sphere.json").string(),
                   [&](std::ostream& o) { o << photo.view.ToJson().dump(1) << "\n"; });
-  const std::string truth_args = src.ToArgs();
+  const std::string truth_args = src.ToArgs(db);
   const std::string cmdline = CommandLine(argc, argv);
   const nlohmann::json truth = {
       {"format", "brdfshot-synthetic-capture-1"}, {"material", label}, {"material_args", truth_args},

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <cstdio>
 #include <fstream>
+#include <functional>
 
+#include "fit/database_cache.h"
 #include "fit/standin.h"
 #include "util/check.h"
 #include "util/data_paths.h"
@@ -13,10 +16,12 @@
 namespace brdfshot {
 namespace fs = std::filesystem;
 
-std::string BasisDatabase::BasisName(int col) const {
+std::string BasisName(const std::vector<std::string>& materials, int col) {
   static const char* kCh[3] = {"R", "G", "B"};
   return materials.at(col / 3) + "/" + kCh[col % 3];
 }
+
+std::string BasisDatabase::BasisName(int col) const { return brdfshot::BasisName(materials, col); }
 
 namespace {
 std::vector<std::string> MerlFiles(const std::string& dir) {
@@ -82,14 +87,26 @@ void StoreColumns(BasisDatabase* db, int m, const MerlBrdf& brdf) {
 }
 }  // namespace
 
+namespace {
+bool Exists(const std::string& p) {
+  std::error_code ec;
+  return !p.empty() && fs::exists(p, ec);
+}
+
+// The data root's copy when it has one, else the repository's own.
+std::string NbrdfFolder(const DatabaseOptions& opt) {
+  const std::string shared = DataPath("merl-nbrdf", opt.data_root);
+  return Exists(shared + "/materials.txt") ? shared : RepoDataPath("merl-nbrdf");
+}
+std::string StandinFolder(const DatabaseOptions& opt) {
+  const std::string shared = DataPath("standin", opt.data_root);
+  return Exists(shared + "/materials.tsv") ? shared : AssetPath("standin");
+}
+}  // namespace
+
 std::string ResolveDatabaseKind(const DatabaseOptions& opt, std::string* folder) {
   const std::string merl = !opt.merl_dir.empty() ? opt.merl_dir : DataPath("merl", opt.data_root);
-  const std::string nbrdf = DataPath("merl-nbrdf", opt.data_root);
-  const std::string standin = DataPath("standin", opt.data_root);
-  auto has = [](const std::string& p) {
-    std::error_code ec;
-    return !p.empty() && fs::exists(p, ec);
-  };
+  const std::string nbrdf = NbrdfFolder(opt), standin = StandinFolder(opt);
   if ((opt.kind == "auto" || opt.kind == "merl") && !MerlFiles(merl).empty()) {
     *folder = merl;
     return "merl";
@@ -97,12 +114,14 @@ std::string ResolveDatabaseKind(const DatabaseOptions& opt, std::string* folder)
   if (opt.kind == "merl")
     throw Error("no MERL .binary files in '" + merl +
                 "' (set --merl-dir or BRDFSHOT_DATA; see README 'Data')");
-  if ((opt.kind == "auto" || opt.kind == "nbrdf") && has(nbrdf + "/materials.txt")) {
+  if ((opt.kind == "auto" || opt.kind == "nbrdf") && Exists(nbrdf + "/materials.txt")) {
     *folder = nbrdf;
     return "nbrdf";
   }
-  if (opt.kind == "nbrdf") throw Error("no merl-nbrdf/materials.txt under the data folder '" + DataRoot(opt.data_root) + "'");
-  if ((opt.kind == "auto" || opt.kind == "standin") && has(standin + "/materials.tsv")) {
+  if (opt.kind == "nbrdf")
+    throw Error("no merl-nbrdf/materials.txt under the data folder '" + DataRoot(opt.data_root) +
+                "' nor in the repository's data/ folder");
+  if ((opt.kind == "auto" || opt.kind == "standin") && Exists(standin + "/materials.tsv")) {
     *folder = standin;
     return "standin";
   }
@@ -120,45 +139,51 @@ void AllocateBasisMatrix(BasisDatabase* db, size_t cols) {
   db->B.resize(static_cast<Eigen::Index>(db->grid.size()), static_cast<Eigen::Index>(cols));
   AdviseHugePages(db->B.data(), sizeof(float) * db->B.size());
 }
-}  // namespace
 
-BasisDatabase LoadDatabase(const DatabaseOptions& opt) {
-  std::string folder;
-  BasisDatabase db;
-  db.kind = ResolveDatabaseKind(opt, &folder);
-  if (db.kind == "merl") {
-    const std::vector<std::string> files = MerlFiles(folder);
-    std::vector<std::string> names;
-    for (const auto& f : files) names.push_back(fs::path(f).stem().string());
-    const std::vector<int> keep = SelectMaterials(names, opt);
-    db.label = "MERL";
-    Progress progress("reading MERL", keep.size(), opt.progress);
-    for (size_t m = 0; m < keep.size(); ++m) {
-      const MerlBrdf brdf = MerlBrdf::Read(files[keep[m]]);
-      if (m == 0) {
-        db.grid = brdf.grid();
-        AllocateBasisMatrix(&db, 3 * keep.size());
-      } else if (!(brdf.grid() == db.grid)) {
-        throw FileError(files[keep[m]], "grid differs from the other MERL files");
-      }
-      db.materials.push_back(names[keep[m]]);
-      StoreColumns(&db, static_cast<int>(m), brdf);
-      progress.Step();
-    }
-    return db;
+// A computed database (nbrdf or stand-in): its materials and the files it is made of.
+struct ComputedSource {
+  std::string kind, folder;
+  std::vector<std::string> names, families;
+  std::vector<StandinMaterial> standin;
+  std::vector<std::string> files;  // what the tables are computed from (the cache's fingerprint)
+};
+
+ComputedSource ReadComputedSource(const std::string& kind, const std::string& folder) {
+  ComputedSource s;
+  s.kind = kind;
+  s.folder = folder;
+  if (kind == "nbrdf") {
+    s.files.push_back(folder + "/materials.txt");
+    s.names = ReadLines(s.files[0]);
+    for (const auto& n : s.names)
+      for (const char* suffix : {"_fc1", "_b1", "_fc2", "_b2", "_fc3", "_b3"})
+        s.files.push_back(folder + "/npy/" + n + suffix + ".npy");
+  } else {
+    s.files.push_back(folder + "/materials.tsv");
+    s.standin = ReadStandinTable(s.files[0]);
+    for (const auto& m : s.standin) s.names.push_back(m.name), s.families.push_back(m.family);
   }
-  db.grid = opt.grid;
-  if (db.kind == "nbrdf") {
-    const std::vector<std::string> names = ReadLines(folder + "/materials.txt");
-    const std::vector<int> keep = SelectMaterials(names, opt);
+  return s;
+}
+
+BasisDatabase ComputeTables(const ComputedSource& src, const MerlGrid& grid, const std::vector<int>& keep,
+                            bool progress_on) {
+  BasisDatabase db;
+  db.kind = src.kind;
+  db.grid = grid;
+  for (int k : keep) {
+    db.materials.push_back(src.names[k]);
+    if (!src.families.empty()) db.families.push_back(src.families[k]);
+  }
+  AllocateBasisMatrix(&db, 3 * keep.size());
+  if (src.kind == "nbrdf") {
     db.label = "MERL (NBRDF approximation)";
-    AllocateBasisMatrix(&db, 3 * keep.size());
     const MatrixXfR x = NbrdfInputs(db.grid);
     std::vector<char> measurable(db.grid.size());
     for (size_t i = 0; i < measurable.size(); ++i) measurable[i] = db.grid.Measurable(i);
     std::vector<NbrdfNetwork> nets;
-    for (int k : keep) nets.push_back(NbrdfNetwork::Load(folder + "/npy", names[k]));
-    Progress progress("evaluating NBRDF", keep.size(), opt.progress);
+    for (int k : keep) nets.push_back(NbrdfNetwork::Load(src.folder + "/npy", src.names[k]));
+    Progress progress("evaluating NBRDF", keep.size(), progress_on);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int m = 0; m < static_cast<int>(keep.size()); ++m) {
       const MatrixXfR rho = nets[m].Eval(x);
@@ -166,27 +191,145 @@ BasisDatabase LoadDatabase(const DatabaseOptions& opt) {
         for (int c = 0; c < 3; ++c) db.B(idx, 3 * m + c) = measurable[idx] ? rho(idx, c) : 0.0f;
       progress.Step();
     }
-    for (int k : keep) db.materials.push_back(names[k]);
     return db;
   }
-  // Stand-in.
-  const std::vector<StandinMaterial> table = ReadStandinTable(folder + "/materials.tsv");
-  std::vector<std::string> names;
-  for (const auto& m : table) names.push_back(m.name);
-  const std::vector<int> keep = SelectMaterials(names, opt);
   db.label = "stand-in (analytic)";
-  AllocateBasisMatrix(&db, 3 * keep.size());
-  Progress progress("sampling stand-in", keep.size(), opt.progress);
+  Progress progress("sampling stand-in", keep.size(), progress_on);
 #pragma omp parallel for schedule(dynamic, 1)
   for (int m = 0; m < static_cast<int>(keep.size()); ++m) {
-    StoreColumns(&db, m, table[keep[m]].ToMerl(db.grid));
+    StoreColumns(&db, m, src.standin[keep[m]].ToMerl(db.grid));
     progress.Step();
   }
-  for (int k : keep) {
-    db.materials.push_back(table[k].name);
-    db.families.push_back(table[k].family);
+  return db;
+}
+
+// Bump when the evaluation of a computed table changes, so older caches read as stale.
+constexpr const char* kTablesVersion = "tables-1";
+
+CachedDatabaseId CacheId(const ComputedSource& src, const MerlGrid& grid) {
+  return {src.kind, grid, FingerprintFiles(src.files, std::string(kTablesVersion) + "/" + src.kind)};
+}
+
+std::vector<int> AllIndices(size_t n) {
+  std::vector<int> all(n);
+  for (size_t i = 0; i < n; ++i) all[i] = static_cast<int>(i);
+  return all;
+}
+
+// The cache file for `src`, built when missing, stale or damaged; "" when
+// caching is off or the cache folder cannot be written (the caller computes).
+std::string EnsureCache(const ComputedSource& src, const DatabaseOptions& opt, const CachedDatabaseId& id,
+                        const std::function<bool(const std::string&)>& sound, BasisDatabase* built) {
+  const std::string dir = opt.use_cache ? CacheDir() : "";
+  if (dir.empty()) return "";
+  const std::string path = (fs::path(dir) / id.FileName()).string();
+  if (Exists(path)) {
+    try {
+      if (sound(path)) return path;
+    } catch (const Error& e) {
+      std::fprintf(stderr, "warning: %s; rebuilding the database cache\n", e.what());
+    }
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  Stopwatch sw;
+  *built = ComputeTables(src, opt.grid, AllIndices(src.names.size()), opt.progress);
+  const std::vector<float> cosw = CosineWeights(built->grid);
+  try {
+    WriteDatabaseCache(path, id, *built, GramMatrix(built->B), GramMatrix(built->B, &cosw));
+  } catch (const Error& e) {
+    std::fprintf(stderr, "warning: cannot write the database cache (%s); computing without it\n", e.what());
+    return "";
+  }
+  std::fprintf(stderr, "built the database cache %s (%s, %zu materials) in %.1f s\n", path.c_str(),
+               built->label.c_str(), src.names.size(), sw.Seconds());
+  return path;
+}
+
+BasisDatabase SelectColumns(BasisDatabase full, const std::vector<int>& keep) {
+  if (keep == AllIndices(full.materials.size())) return full;
+  BasisDatabase db;
+  db.kind = full.kind;
+  db.label = full.label;
+  db.grid = full.grid;
+  std::vector<int> cols;
+  for (int m : keep) {
+    db.materials.push_back(full.materials[m]);
+    if (!full.families.empty()) db.families.push_back(full.families[m]);
+    for (int c = 0; c < 3; ++c) cols.push_back(3 * m + c);
+  }
+  AllocateBasisMatrix(&db, cols.size());
+#pragma omp parallel for schedule(static)
+  for (long r = 0; r < static_cast<long>(db.B.rows()); ++r)
+    for (size_t k = 0; k < cols.size(); ++k) db.B(r, k) = full.B(r, cols[k]);
+  return db;
+}
+
+BasisDatabase LoadMerlFiles(const std::string& folder, const DatabaseOptions& opt) {
+  BasisDatabase db;
+  db.kind = "merl";
+  const std::vector<std::string> files = MerlFiles(folder);
+  std::vector<std::string> names;
+  for (const auto& f : files) names.push_back(fs::path(f).stem().string());
+  const std::vector<int> keep = SelectMaterials(names, opt);
+  db.label = "MERL";
+  Progress progress("reading MERL", keep.size(), opt.progress);
+  for (size_t m = 0; m < keep.size(); ++m) {
+    const MerlBrdf brdf = MerlBrdf::Read(files[keep[m]]);
+    if (m == 0) {
+      db.grid = brdf.grid();
+      AllocateBasisMatrix(&db, 3 * keep.size());
+    } else if (!(brdf.grid() == db.grid)) {
+      throw FileError(files[keep[m]], "grid differs from the other MERL files");
+    }
+    db.materials.push_back(names[keep[m]]);
+    StoreColumns(&db, static_cast<int>(m), brdf);
+    progress.Step();
   }
   return db;
+}
+}  // namespace
+
+BasisDatabase LoadDatabase(const DatabaseOptions& opt) {
+  std::string folder;
+  const std::string kind = ResolveDatabaseKind(opt, &folder);
+  // Real MERL files are read as they are: parsing them is the whole cost.
+  if (kind == "merl") return LoadMerlFiles(folder, opt);
+  const ComputedSource src = ReadComputedSource(kind, folder);
+  const std::vector<int> keep = SelectMaterials(src.names, opt);
+  const CachedDatabaseId id = CacheId(src, opt.grid);
+  BasisDatabase cached, built;
+  EnsureCache(src, opt, id, [&](const std::string& p) {
+    cached = ReadDatabaseCache(p, id, keep);
+    return true;
+  }, &built);
+  if (!cached.materials.empty()) return cached;
+  if (!built.materials.empty()) return SelectColumns(std::move(built), keep);  // just built, all materials
+  return ComputeTables(src, opt.grid, keep, opt.progress);                      // caching off
+}
+
+DatabaseGrams LoadDatabaseGrams(const DatabaseOptions& opt) {
+  std::string folder;
+  const std::string kind = ResolveDatabaseKind(opt, &folder);
+  auto from_tables = [](const BasisDatabase& db) {
+    DatabaseGrams g{db.kind, db.label, db.grid, db.materials, db.families, GramMatrix(db.B), {}};
+    const std::vector<float> cosw = CosineWeights(db.grid);
+    g.gram_cos = GramMatrix(db.B, &cosw);
+    return g;
+  };
+  if (kind == "merl") return from_tables(LoadMerlFiles(folder, opt));
+  const ComputedSource src = ReadComputedSource(kind, folder);
+  const std::vector<int> keep = SelectMaterials(src.names, opt);
+  const CachedDatabaseId id = CacheId(src, opt.grid);
+  DatabaseGrams grams;
+  BasisDatabase built;
+  const std::string path = EnsureCache(src, opt, id, [&](const std::string& p) {
+    grams = ReadDatabaseCacheGrams(p, id, keep);
+    return true;
+  }, &built);
+  if (!grams.materials.empty()) return grams;
+  if (!path.empty()) return ReadDatabaseCacheGrams(path, id, keep);  // just built
+  return from_tables(ComputeTables(src, opt.grid, keep, opt.progress));
 }
 
 Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* w) {

@@ -21,6 +21,8 @@ struct DatabaseOptions {
   std::vector<std::string> exclude;  // material names to leave out (leave-one-out on a capture)
   int max_materials = 0;             // >0: that many, evenly spread over the list
   bool progress = false;
+  // Keep computed tables (nbrdf, standin) in CacheDir() (fit/database_cache.h).
+  bool use_cache = true;
 };
 
 struct BasisDatabase {
@@ -38,11 +40,28 @@ struct BasisDatabase {
   std::string BasisName(int col) const;
 };
 
+// The Gram matrices of a database's bases, without its tables: all that the
+// class model and the leave-one-out metrics need.
+struct DatabaseGrams {
+  std::string kind, label;
+  MerlGrid grid;
+  std::vector<std::string> materials, families;
+  Eigen::MatrixXd gram;      // BᵀB
+  Eigen::MatrixXd gram_cos;  // Bᵀ diag(cos²) B (the BRDF metric's weights)
+};
+
+// "material/R|G|B": the name of basis column `col` over `materials`.
+std::string BasisName(const std::vector<std::string>& materials, int col);
+
 // Resolves which database `opt.kind` means on this machine (auto → first found),
 // returning the kind and the folder; Error saying where to get data if none.
 std::string ResolveDatabaseKind(const DatabaseOptions& opt, std::string* folder);
 
+// The tables of the selected materials. Computed kinds come from the cache when
+// it holds them (a missing, stale or damaged cache is rebuilt, with a note on
+// stderr saying why and how long it took).
 BasisDatabase LoadDatabase(const DatabaseOptions& opt);
+DatabaseGrams LoadDatabaseGrams(const DatabaseOptions& opt);
 
 // Material names listed in a merl-nbrdf materials.txt.
 std::vector<std::string> ReadLines(const std::string& path);

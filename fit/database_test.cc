@@ -44,12 +44,22 @@ TEST(Database, StandinSubsetIsLabelledAndShaped) {
 TEST(Database, MissingDataSaysWhereToGetIt) {
   DatabaseOptions opt;
   opt.data_root = "/nonexistent-brdfshot-data";
+  opt.kind = "merl";
   try {
     LoadDatabase(opt);
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("BRDFSHOT_DATA"), std::string::npos) << e.what();
   }
+}
+
+TEST(Database, WithoutADataFolderAutoFindsTheRepositorysNeuralFits) {
+  DatabaseOptions opt;
+  opt.data_root = "/nonexistent-brdfshot-data";
+  std::string folder;
+  EXPECT_EQ(ResolveDatabaseKind(opt, &folder), "nbrdf");
+  EXPECT_EQ(std::filesystem::path(folder), std::filesystem::weakly_canonical(std::filesystem::path(BRDFSHOT_SOURCE_DIR) / "data" / "merl-nbrdf"));
+  EXPECT_EQ(ReadLines(folder + "/materials.txt").size(), 100u);
 }
 
 TEST(Database, SelectMaterialsKeepsExcludesAndSpreads) {

@@ -102,11 +102,10 @@ FitResult FitLeavingOut(const World& w, const Images& Y, const Eigen::MatrixXd& 
   const ClassModel model = FitGmm(ProjectFromGram(w.gram(keep, keep), 4), GmmOptions{});
   std::vector<std::vector<int>> members(model.classes());
   for (size_t i = 0; i < keep.size(); ++i) members[model.label[i]].push_back(keep[i]);
-  const auto f = FactorBasisImages(Y);
-  const std::array<Eigen::MatrixXd, 3> R{f[0].R, f[1].R, f[2].R};
+  const auto f = FactorBasisImages(Y, true);
   SolveOptions so;
   so.lambda = lambda;
-  const ClasswiseFit fit = SolveClasswise(R, MakeObservation(f, y), members, so);
+  const ClasswiseFit fit = SolveClasswise(f, MakeObservation(f, Y, y), members, so);
   FitResult r;
   r.weights = fit.weights();
   r.chosen = fit.chosen;
@@ -196,7 +195,7 @@ TEST(HardScenes, LambdaToZeroWithExactlyCollinearBases) {
     twins[c].resize(base.Y[c].rows(), 2 * base.Y[c].cols());
     twins[c] << base.Y[c], base.Y[c];
   }
-  const auto f1 = FactorBasisImages(base.Y), f2 = FactorBasisImages(twins);
+  const auto f1 = FactorBasisImages(base.Y, true), f2 = FactorBasisImages(twins, true);
   // One class holding everything but m (and m's twin).
   std::vector<int> one, two;
   for (int i = 0; i < w.db.num_bases(); ++i)
@@ -207,8 +206,8 @@ TEST(HardScenes, LambdaToZeroWithExactlyCollinearBases) {
     }
   SolveOptions so;
   so.lambda = 0;
-  const ClasswiseFit a = SolveClasswise({f1[0].R, f1[1].R, f1[2].R}, MakeObservation(f1, y), {one}, so);
-  const ClasswiseFit b = SolveClasswise({f2[0].R, f2[1].R, f2[2].R}, MakeObservation(f2, y), {two}, so);
+  const ClasswiseFit a = SolveClasswise(f1, MakeObservation(f1, base.Y, y), {one}, so);
+  const ClasswiseFit b = SolveClasswise(f2, MakeObservation(f2, twins, y), {two}, so);
   ASSERT_TRUE(AllFinite(b.weights()));
   EXPECT_GT(b.classes[0].condition[1], 1e12) << "a singular system must be reported as such";
   double max_w = 0;
@@ -228,7 +227,7 @@ TEST(HardScenes, LambdaToZeroWithExactlyCollinearBases) {
   for (double lambda : {1e-12, 1e-9, 1e-6, 1e-3, 0.5}) {
     SolveOptions so2;
     so2.lambda = lambda;
-    const ClasswiseFit t = SolveClasswise({f1[0].R, f1[1].R, f1[2].R}, MakeObservation(f1, y), {one}, so2);
+    const ClasswiseFit t = SolveClasswise(f1, MakeObservation(f1, base.Y, y), {one}, so2);
     ASSERT_TRUE(AllFinite(t.weights())) << "lambda " << lambda;
     double dy = 0;
     for (int c = 0; c < 3; ++c)

@@ -62,8 +62,6 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
   const int n = 3 * M;
   BRDFSHOT_CHECK(in.gram.rows() == n && in.gram_cos.rows() == n && !in.scenes.empty());
   const int S = static_cast<int>(in.scenes.size());
-  std::vector<std::array<Eigen::MatrixXd, 3>> R(S);
-  for (int s = 0; s < S; ++s) R[s] = in.scenes[s].R();
 
   std::vector<std::vector<LooRow>> per_material(M);
   std::vector<double> t_cluster(M), t_solve(M);
@@ -86,24 +84,20 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     Stopwatch sw2;
     SolveOptions so;
     so.lambda = opt.lambda;
-    so.condition = false;
     const std::array<const Eigen::MatrixXd*, 3> gcos = {&in.gram_cos, &in.gram_cos, &in.gram_cos};
     for (int a = 0; a < S; ++a) {
-      Observation obs;
-      for (int c = 0; c < 3; ++c) {
-        obs.z[c] = R[a][c].col(3 * m + c);
-        obs.norm2[c] = in.scenes[a].f[c].gram(3 * m + c, 3 * m + c);
-      }
+      const auto& fa = in.scenes[a].f;
+      const Observation obs = BasisObservation(fa, {3 * m, 3 * m + 1, 3 * m + 2});
       struct Method {
         const char* name;
         Eigen::MatrixXd w;
         int cls;
       };
-      const ClasswiseFit ours = SolveClasswise(R[a], obs, ours_members, so);
-      const ClasswiseFit paper = SolveClasswise(R[a], obs, paper_members, so);
+      const ClasswiseFit ours = SolveClasswise(fa, obs, ours_members, so);
+      const ClasswiseFit paper = SolveClasswise(fa, obs, paper_members, so);
       const Method methods[] = {{"ours", ours.weights(), ours.chosen},
                                 {"paper", paper.weights(), paper.chosen},
-                                {"lsq", SolveLeastSquares(R[a], obs, keep), -1},
+                                {"lsq", SolveLeastSquares(fa, obs, keep), -1},
                                 {"oracle", oracle, -1}};
       for (const Method& meth : methods) {
         LooRow row;
@@ -122,7 +116,6 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
         row.relit_mean = sum / relit.size();
         row.relit_median = Median(relit);
         row.brdf = RelativeError(gcos, meth.w, m);
-        const auto& fa = in.scenes[a].f;
         row.insample = RelativeError({&fa[0].gram, &fa[1].gram, &fa[2].gram}, meth.w, m);
         per_material[m].push_back(row);
       }

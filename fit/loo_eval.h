@@ -25,8 +25,7 @@ namespace brdfshot {
 
 struct SceneFactors {            // one probe's basis images, factored
   std::string probe;
-  std::array<ChannelFactor, 3> f;
-  std::array<Eigen::MatrixXd, 3> R() const { return {f[0].R, f[1].R, f[2].R}; }
+  std::array<ChannelFactor, 3> f;        // with the QR (least squares and the singular fallback)
 };
 
 struct LooInputs {

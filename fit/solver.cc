@@ -1,6 +1,8 @@
 #include "fit/solver.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -8,38 +10,88 @@
 
 namespace brdfshot {
 
-Eigen::VectorXd ChannelFactor::Project(const Eigen::VectorXd& y) const {
-  const Eigen::Index n = R.cols();
-  Eigen::VectorXd full = y;
-  full.applyOnTheLeft(qr.householderQ().adjoint());
-  return full.head(std::min<Eigen::Index>(n, full.size()));
-}
-
-std::array<ChannelFactor, 3> FactorBasisImages(const std::array<MatrixXfR, 3>& Y) {
-  std::array<ChannelFactor, 3> f;
-  for (int c = 0; c < 3; ++c) {
-    const Eigen::MatrixXd Yd = Y[c].cast<double>();
-    const Eigen::Index n = Yd.cols();
-    f[c].qr.compute(Yd);
-    // With fewer pixels than bases the R factor is short and wide: pad with zero
-    // rows so every column subset has the same n rows.
-    f[c].R = Eigen::MatrixXd::Zero(n, n);
-    const Eigen::Index rows = std::min(n, Yd.rows());
-    f[c].R.topRows(rows) = f[c].qr.matrixQR().topRows(rows).triangularView<Eigen::Upper>();
-    f[c].gram = Yd.transpose() * Yd;
+namespace {
+// YᵀY in double, accumulated over row blocks: float products within a block of
+// 4096 rows, blocks summed in double (the pixels' sum needs the precision).
+Eigen::MatrixXd GramOf(const MatrixXfR& Y) {
+  const Eigen::Index n = Y.cols();
+  constexpr Eigen::Index kBlock = 2048;
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index r0 = 0; r0 < Y.rows(); r0 += kBlock) {
+    const Eigen::Index rows = std::min(kBlock, Y.rows() - r0);
+    const Eigen::MatrixXd blk = Y.middleRows(r0, rows).cast<double>();
+    g.selfadjointView<Eigen::Lower>().rankUpdate(blk.transpose());
   }
+  return g.selfadjointView<Eigen::Lower>();
+}
+}  // namespace
+
+std::array<ChannelFactor, 3> FactorBasisImages(const std::array<MatrixXfR, 3>& Y, bool with_qr) {
+  std::array<ChannelFactor, 3> f;
+#pragma omp parallel for schedule(static, 1)
+  for (int c = 0; c < 3; ++c) f[c].gram = GramOf(Y[c]);
+  if (with_qr) AddQr(Y, &f);
   return f;
 }
 
-Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const Eigen::MatrixXd& y) {
+void AddQr(const std::array<MatrixXfR, 3>& Y, std::array<ChannelFactor, 3>* f) {
+  for (int c = 0; c < 3; ++c) {
+    auto& fc = (*f)[c];
+    if (fc.has_qr()) continue;
+    const Eigen::Index n = Y[c].cols();
+    auto qr = std::make_shared<Eigen::HouseholderQR<Eigen::MatrixXd>>(Y[c].cast<double>());
+    // With fewer pixels than bases R is short and wide: pad with zero rows so
+    // every column subset has the same n rows.
+    fc.R = Eigen::MatrixXd::Zero(n, n);
+    const Eigen::Index rows = std::min(n, Y[c].rows());
+    fc.R.topRows(rows) = qr->matrixQR().topRows(rows).triangularView<Eigen::Upper>();
+    fc.qr = std::move(qr);
+  }
+}
+
+Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
+                            const Eigen::MatrixXd& y) {
   Observation o;
   for (int c = 0; c < 3; ++c) {
-    Eigen::VectorXd z = f[c].Project(y.col(c));
-    if (z.size() < f[c].R.cols()) z.conservativeResizeLike(Eigen::VectorXd::Zero(f[c].R.cols()));
-    o.z[c] = z;
-    o.norm2[c] = y.col(c).squaredNorm();
+    BRDFSHOT_CHECK(y.rows() == Y[c].rows());
+    const Eigen::VectorXd yc = y.col(c);
+    o.z[c] = Y[c].cast<double>().transpose() * yc;
+    o.norm2[c] = yc.squaredNorm();
+    if (f[c].has_qr()) {
+      Eigen::VectorXd full = yc;
+      full.applyOnTheLeft(f[c].qr->householderQ().adjoint());
+      o.z_qr[c] = Eigen::VectorXd::Zero(f[c].R.cols());
+      const Eigen::Index k = std::min<Eigen::Index>(f[c].R.cols(), full.size());
+      o.z_qr[c].head(k) = full.head(k);
+    }
   }
   return o;
+}
+
+Observation BasisObservation(const std::array<ChannelFactor, 3>& f, const std::array<int, 3>& col) {
+  Observation o;
+  for (int c = 0; c < 3; ++c) {
+    o.z[c] = f[c].gram.col(col[c]);
+    o.norm2[c] = f[c].gram(col[c], col[c]);
+    if (f[c].has_qr()) o.z_qr[c] = f[c].R.col(col[c]);  // Qᵀ(Y e) = R e
+  }
+  return o;
+}
+
+std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
+                                         const std::vector<std::vector<int>>& members) {
+  std::vector<ClassSpectrum> out(members.size());
+  for (size_t j = 0; j < members.size(); ++j) {
+    out[j].members = members[j];
+    if (members[j].empty()) continue;
+    for (int c = 0; c < 3; ++c) {
+      out[j].gram[c] = f[c].gram(members[j], members[j]);
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(out[j].gram[c]);
+      out[j].e[c] = eig.eigenvalues().cwiseMax(0.0);  // rounding can leave a singular G slightly negative
+      out[j].V[c] = eig.eigenvectors();
+    }
+  }
+  return out;
 }
 
 Eigen::VectorXd SolveRidge(const Eigen::MatrixXd& A, const Eigen::VectorXd& z, double lambda,
@@ -62,45 +114,94 @@ Eigen::VectorXd SolveRidge(const Eigen::MatrixXd& A, const Eigen::VectorXd& z, d
   return prior + cod.solve(rhs);
 }
 
-ClasswiseFit SolveClasswise(const std::array<Eigen::MatrixXd, 3>& R, const Observation& obs,
-                            const std::vector<std::vector<int>>& members, const SolveOptions& opt) {
-  const Eigen::Index n = R[0].cols();
+Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::VectorXd& zJ, double lambda_j) {
+  const Eigen::VectorXd& e = cls.e[c];
+  const Eigen::Index k = e.size();
+  const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / static_cast<double>(k));
+  // Directions with no data and no weight (e + λ_j ≈ 0) keep the prior: the
+  // minimum-norm correction.
+  const Eigen::VectorXd b = cls.V[c].transpose() * (zJ - cls.gram[c] * prior);
+  const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
+  Eigen::VectorXd d(k);
+  for (Eigen::Index i = 0; i < k; ++i) d[i] = e[i] + lambda_j > floor ? b[i] / (e[i] + lambda_j) : 0.0;
+  return prior + cls.V[c] * d;
+}
+
+ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
+                         double lambda) {
+  const Eigen::Index n = f[0].gram.rows();
+  const std::vector<int>& J = cls.members;
+  ClassSolution s;
+  s.members = static_cast<int>(J.size());
+  s.weights = Eigen::MatrixXd::Zero(n, 3);
+  BRDFSHOT_CHECK(!J.empty() && lambda >= 0);
+  const double cj = static_cast<double>(J.size());
+  const Eigen::VectorXd prior = Eigen::VectorXd::Constant(J.size(), 1.0 / cj);
+  int worst = 0;  // 0 normal, 1 normal-truncated, 2 qr
+  for (int c = 0; c < 3; ++c) {
+    const double lj = lambda * obs.norm2[c] / cj;
+    const Eigen::VectorXd& e = cls.e[c];
+    const double emax = e.size() ? e[e.size() - 1] : 0, emin = e.size() ? e[0] : 0;
+    const double kappa = emin + lj > 0 ? (emax + lj) / (emin + lj) : std::numeric_limits<double>::infinity();
+    s.condition[c] = std::sqrt(kappa);
+    s.lambda_j[c] = lj;
+    const Eigen::VectorXd zJ = obs.z[c](J);
+    Eigen::VectorXd w;
+    if (kappa > kMaxNormalCondition && f[c].has_qr() && obs.z_qr[c].size()) {
+      w = SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], lj, prior);
+      worst = std::max(worst, 2);
+    } else {
+      w = SolveFromSpectrum(cls, c, zJ, lj);
+      if (kappa > kMaxNormalCondition) worst = std::max(worst, 1);
+    }
+    // ‖Y_J w − y‖² = wᵀG_JJ w − 2 wᵀz_J + ‖y‖²: accurate to ~1e-16 ‖y‖², ample
+    // for comparing classes.
+    s.residual += std::max(0.0, w.dot(cls.gram[c] * w) - 2 * w.dot(zJ) + obs.norm2[c]);
+    for (size_t k = 0; k < J.size(); ++k) s.weights(J[k], c) = w[k];
+  }
+  s.path = worst == 2 ? "qr" : worst == 1 ? "normal-truncated" : "normal";
+  return s;
+}
+
+ClasswiseFit SolveClasswise(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
+                            const Observation& obs, const std::vector<double>& lambda) {
+  BRDFSHOT_CHECK(lambda.size() == classes.size());
+  const Eigen::Index n = f[0].gram.rows();
   ClasswiseFit fit;
   double best = std::numeric_limits<double>::infinity();
-  for (size_t j = 0; j < members.size(); ++j) {
+  for (size_t j = 0; j < classes.size(); ++j) {
     ClassSolution s;
-    s.members = static_cast<int>(members[j].size());
-    s.weights = Eigen::MatrixXd::Zero(n, 3);
-    if (members[j].empty()) {
+    if (classes[j].members.empty()) {
+      s.weights = Eigen::MatrixXd::Zero(n, 3);
       s.residual = std::numeric_limits<double>::infinity();
-      fit.classes.push_back(s);
-      continue;
+    } else {
+      s = SolveClass(f, classes[j], obs, lambda[j]);
+      if (s.residual < best) best = s.residual, fit.chosen = static_cast<int>(j);
     }
-    const double cj = static_cast<double>(members[j].size());
-    const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::MatrixXd A = R[c](Eigen::all, members[j]);
-      const double lambda_j = opt.lambda * obs.norm2[c] / cj;
-      double cond = 0;
-      const Eigen::VectorXd w = SolveRidge(A, obs.z[c], lambda_j, prior, opt.condition ? &cond : nullptr);
-      s.condition[c] = cond;
-      s.residual += (A * w - obs.z[c]).squaredNorm();
-      for (size_t k = 0; k < members[j].size(); ++k) s.weights(members[j][k], c) = w[k];
-    }
-    if (s.residual < best) best = s.residual, fit.chosen = static_cast<int>(j);
-    fit.classes.push_back(s);
+    fit.classes.push_back(std::move(s));
   }
   BRDFSHOT_CHECK(fit.chosen >= 0, "no non-empty class to solve with");
   return fit;
 }
 
-Eigen::MatrixXd SolveLeastSquares(const std::array<Eigen::MatrixXd, 3>& R, const Observation& obs,
+ClasswiseFit SolveClasswise(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
+                            const Observation& obs, const SolveOptions& opt) {
+  return SolveClasswise(f, classes, obs, std::vector<double>(classes.size(), opt.lambda));
+}
+
+ClasswiseFit SolveClasswise(const std::array<ChannelFactor, 3>& f, const Observation& obs,
+                            const std::vector<std::vector<int>>& members, const SolveOptions& opt) {
+  return SolveClasswise(f, FactorClasses(f, members), obs, opt);
+}
+
+Eigen::MatrixXd SolveLeastSquares(const std::array<ChannelFactor, 3>& f, const Observation& obs,
                                   const std::vector<int>& columns) {
-  const Eigen::Index n = R[0].cols();
+  const Eigen::Index n = f[0].gram.rows();
   Eigen::MatrixXd w = Eigen::MatrixXd::Zero(n, 3);
   for (int c = 0; c < 3; ++c) {
-    const Eigen::MatrixXd A = R[c](Eigen::all, columns);
-    const Eigen::VectorXd x = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(obs.z[c]);
+    BRDFSHOT_CHECK(f[c].has_qr() && obs.z_qr[c].size() == n, "least squares needs the QR factors");
+    const Eigen::MatrixXd A = f[c].R(Eigen::all, columns);
+    const Eigen::VectorXd x = Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(A).solve(obs.z_qr[c]);
     for (size_t k = 0; k < columns.size(); ++k) w(columns[k], c) = x[k];
   }
   return w;

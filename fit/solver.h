@@ -1,55 +1,86 @@
-// The class-wise regularised solve (paper sec. 4, eq. 22 as corrected in
-// DESIGN.md) and its baselines.
+// The class-wise regularised solve (paper sec. 4, eq. 22 with the corrected
+// M-step, docs/method.md) and its baselines.
 //
-// Per scene and light channel c the basis images are factored once, Y_c = Q_c R_c
-// (Householder QR, double). Any observation then enters only through
-// z_c = Q_cᵀ y_c, and any subset J of bases through the columns R_c[:, J]:
-//   ‖Y_J w − y‖² = ‖R_J w − z‖² + (‖y‖² − ‖z‖²).
-// So a class solve is an (n + c_j) × c_j problem, independent of the pixel count,
-// and leaving a material out is dropping columns — no refactorisation.
+// Per scene and light channel c the basis images Y_c (pixels × n) enter through
+// their Gram matrix G_c = Y_cᵀY_c (double), and an observation y_c through
+// z_c = Y_cᵀy_c and ‖y_c‖². Per class j (members J, c_j of them) the solve is
+//   minimise ‖Y_J w − y‖² + λ_j ‖w − μ'‖²,  μ' = 1/c_j,  λ_j = λ ‖y‖²/c_j,
+// i.e. (G_JJ + λ_j I) v = z_J − G_JJ μ', w = μ' + v. G_JJ = V diag(e) Vᵀ is
+// decomposed once per scene and class (it does not depend on the photo), so a
+// solve is two c_j × c_j products for any λ — which is what lets the
+// regularisation be chosen per capture (fit/lambda_choice.h) at almost no cost.
 //
-// Per class j (c_j members) and channel: minimise ‖R_J w − z‖² + λ_j ‖w − μ'‖²,
-// μ' = 1/c_j, λ_j = λ ‖y‖²/c_j, by a complete orthogonal decomposition of the
-// augmented matrix [R_J; √λ_j I] (never the normal equations). When that matrix
-// is singular (λ = 0 and collinear bases) the COD returns the minimum-norm
-// correction w − μ', which is finite; the condition number is reported (∞ then).
+// Normal equations square the conditioning: their error is about κ·ε with
+// κ = (e_max + λ_j)/(e_min + λ_j). When κ > kMaxNormalCondition (λ near 0 with
+// nearly collinear bases) the solve falls back to a complete orthogonal
+// decomposition of the augmented system [R_J; √λ_j I] built on the Householder
+// QR of Y (never squared), which returns the minimum-norm correction w − μ'
+// when the system is singular. Without a QR (FactorBasisImages(.., false)) the
+// fallback is the eigen-solve with eigenvalues below 1e-13 e_max dropped
+// (minimum-norm, truncated); ClassSolution::path says which ran.
 // The class is chosen by the data residual summed over R, G, B (sec. 4.6).
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/QR>
 #include <array>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "fit/nbrdf.h"
 
 namespace brdfshot {
 
-// Q R of one channel's basis images, plus its Gram matrix (for image metrics).
+// Beyond this condition of G_JJ + λ_j I the normal equations lose more than
+// ~1e-8 of relative accuracy: the QR path is taken.
+constexpr double kMaxNormalCondition = 1e8;
+
+// One channel's basis images, factored.
 struct ChannelFactor {
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr;
-  Eigen::MatrixXd R;     // n × n upper triangular (top of the QR's R)
-  Eigen::MatrixXd gram;  // YᵀY = RᵀR, kept explicitly for metrics
-  Eigen::VectorXd Project(const Eigen::VectorXd& y) const;  // first n entries of Qᵀy
+  Eigen::MatrixXd gram;  // YᵀY (n × n)
+  // Householder QR of Y and its n × n R (zero rows padded when pixels < n);
+  // null / empty unless asked for.
+  std::shared_ptr<const Eigen::HouseholderQR<Eigen::MatrixXd>> qr;
+  Eigen::MatrixXd R;
+  bool has_qr() const { return qr != nullptr; }
 };
-std::array<ChannelFactor, 3> FactorBasisImages(const std::array<MatrixXfR, 3>& Y);
+std::array<ChannelFactor, 3> FactorBasisImages(const std::array<MatrixXfR, 3>& Y, bool with_qr = false);
+void AddQr(const std::array<MatrixXfR, 3>& Y, std::array<ChannelFactor, 3>* f);
+
+struct Observation {                    // what a solve needs of an image
+  std::array<Eigen::VectorXd, 3> z;     // Y_cᵀ y_c
+  std::array<Eigen::VectorXd, 3> z_qr;  // first n entries of Q_cᵀ y_c (only with a QR)
+  std::array<double, 3> norm2{};        // ‖y_c‖²
+};
+// y: pixels × 3, the same pixels as Y's rows.
+Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
+                            const Eigen::MatrixXd& y);
+// The observation of basis columns `col[c]` themselves (y_c = Y_c e_col): exact
+// from the factors, as leave-one-out needs.
+Observation BasisObservation(const std::array<ChannelFactor, 3>& f, const std::array<int, 3>& col);
+
+// G_JJ = V diag(e) Vᵀ per channel for one class (e ascending, clamped at 0).
+struct ClassSpectrum {
+  std::vector<int> members;
+  std::array<Eigen::VectorXd, 3> e;
+  std::array<Eigen::MatrixXd, 3> V;
+  std::array<Eigen::MatrixXd, 3> gram;  // G_JJ
+};
+std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
+                                         const std::vector<std::vector<int>>& members);
 
 struct SolveOptions {
   double lambda = 0.5;
-  bool condition = true;  // compute condition numbers (an SVD per class; skip in bulk eval)
 };
-
-struct Observation {          // what a solve needs of an image
-  std::array<Eigen::VectorXd, 3> z;  // Q_cᵀ y_c
-  std::array<double, 3> norm2{};     // ‖y_c‖²
-};
-Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const Eigen::MatrixXd& y);  // y: pixels × 3
 
 struct ClassSolution {
   int members = 0;
-  double residual = 0;               // Σ_c ‖R_J w_c − z_c‖² (in-range part)
-  std::array<double, 3> condition{};  // of [R_J; √λ_j I] per channel
-  Eigen::MatrixXd weights;           // n × 3, zero outside the class
+  double residual = 0;                // Σ_c ‖Y_J w_c − y_c‖²
+  std::array<double, 3> condition{};  // of the least-squares matrix [Y_J; √λ_j I] per channel
+  std::array<double, 3> lambda_j{};   // the weight actually applied per channel
+  std::string path;                   // "normal", "qr" or "normal-truncated" (worst over channels)
+  Eigen::MatrixXd weights;            // n × 3, zero outside the class
 };
 
 struct ClasswiseFit {
@@ -58,16 +89,31 @@ struct ClasswiseFit {
   const Eigen::MatrixXd& weights() const { return classes.at(chosen).weights; }
 };
 
-// `members[j]`: basis indices of class j (empty classes are skipped).
-ClasswiseFit SolveClasswise(const std::array<Eigen::MatrixXd, 3>& R, const Observation& obs,
+// `lambda[j]` per class (empty classes are skipped).
+ClasswiseFit SolveClasswise(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
+                            const Observation& obs, const std::vector<double>& lambda);
+ClasswiseFit SolveClasswise(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
+                            const Observation& obs, const SolveOptions& opt);
+// Convenience: factors the classes first.
+ClasswiseFit SolveClasswise(const std::array<ChannelFactor, 3>& f, const Observation& obs,
                             const std::vector<std::vector<int>>& members, const SolveOptions& opt);
+
+// One class's solve over R, G, B at weight λ (λ_j = λ‖y_c‖²/c_j per channel).
+ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
+                         double lambda);
+
+// w_J = μ' + V diag(1/(e + λ_j)) Vᵀ (z_J − G_JJ μ') for channel c of a class:
+// the normal equations through the class's spectrum, any λ_j ≥ 0 (directions
+// with e + λ_j below 1e-13 e_max keep the prior).
+Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::VectorXd& zJ, double lambda_j);
 
 // One regularised solve: argmin ‖A w − z‖² + lambda ‖w − prior‖² via COD.
 Eigen::VectorXd SolveRidge(const Eigen::MatrixXd& A, const Eigen::VectorXd& z, double lambda,
                            const Eigen::VectorXd& prior, double* condition = nullptr);
 
-// Plain least squares over `columns` (minimum-norm): the paper's baseline.
-Eigen::MatrixXd SolveLeastSquares(const std::array<Eigen::MatrixXd, 3>& R, const Observation& obs,
+// Plain least squares over `columns` (minimum-norm, by COD on the QR's R; the
+// factors must have a QR): the paper's baseline.
+Eigen::MatrixXd SolveLeastSquares(const std::array<ChannelFactor, 3>& f, const Observation& obs,
                                   const std::vector<int>& columns);
 
 }  // namespace brdfshot

@@ -43,4 +43,21 @@ std::string AssetPath(const std::string& relative) {
   return "";
 }
 
+std::string RepoDataPath(const std::string& relative) {
+  for (const fs::path& base : {fs::path("data"), fs::path("../data"), fs::path(BRDFSHOT_SOURCE_DIR_FALLBACK) / "data"}) {
+    const fs::path p = base / relative;
+    std::error_code ec;
+    if (fs::exists(p, ec)) return fs::weakly_canonical(p, ec).string();
+  }
+  return "";
+}
+
+std::string CacheDir() {
+  if (const char* env = std::getenv("BRDFSHOT_CACHE"); env && *env)
+    return std::string(env) == "off" ? "" : env;
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (fs::path(xdg) / "brdfshot").string();
+  if (const char* home = std::getenv("HOME"); home && *home) return (fs::path(home) / ".cache" / "brdfshot").string();
+  return "";
+}
+
 }  // namespace brdfshot

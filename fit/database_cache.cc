@@ -1,0 +1,260 @@
+#include "fit/database_cache.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "util/atomic_file.h"
+#include "util/check.h"
+#include "util/huge_pages.h"
+
+namespace brdfshot {
+
+namespace {
+constexpr char kMagic[8] = {'B', 'S', 'H', 'O', 'T', 'D', 'B', '1'};
+constexpr const char* kFormat = "brdfshot-database-cache-1";
+constexpr size_t kBlockRows = 16384;
+
+std::string Hex(uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+// A file read by offset from several threads at once (pread has no shared position).
+class PositionalFile {
+ public:
+  explicit PositionalFile(const std::string& path) : path_(path), fd_(::open(path.c_str(), O_RDONLY)) {
+    if (fd_ < 0) throw FileError(path, std::string("cannot open: ") + std::strerror(errno));
+  }
+  ~PositionalFile() { ::close(fd_); }
+  PositionalFile(const PositionalFile&) = delete;
+  PositionalFile& operator=(const PositionalFile&) = delete;
+  uint64_t Size() const {
+    const off_t end = ::lseek(fd_, 0, SEEK_END);
+    return end < 0 ? 0 : static_cast<uint64_t>(end);
+  }
+  void Read(void* dst, size_t bytes, uint64_t offset) const {
+    char* p = static_cast<char*>(dst);
+    while (bytes > 0) {
+      const ssize_t got = ::pread(fd_, p, bytes, static_cast<off_t>(offset));
+      if (got <= 0) throw FileError(path_, "truncated");
+      p += got, bytes -= static_cast<size_t>(got), offset += static_cast<uint64_t>(got);
+    }
+  }
+
+ private:
+  std::string path_;
+  int fd_;
+};
+
+struct Layout {
+  nlohmann::json header;
+  uint64_t header_end = 0, gram_bytes = 0, rows = 0, cols = 0, blocks = 0;
+  uint64_t gram_offset() const { return header_end; }
+  uint64_t b_offset() const { return header_end + gram_bytes; }
+  uint64_t checksum_offset() const { return b_offset() + rows * cols * sizeof(float); }
+  uint64_t file_size() const { return checksum_offset() + (2 + blocks) * sizeof(uint64_t); }
+};
+
+// Reads and checks everything but B's blocks: magic, header, the id it names,
+// the file's length and the header's checksum.
+Layout ReadLayout(const PositionalFile& f, const std::string& path, const CachedDatabaseId& id,
+                  std::vector<uint64_t>* checksums) {
+  const uint64_t size = f.Size();
+  char magic[8];
+  uint64_t header_bytes = 0;
+  if (size < 16) throw FileError(path, "truncated database cache");
+  f.Read(magic, 8, 0);
+  f.Read(&header_bytes, 8, 8);
+  if (std::memcmp(magic, kMagic, 8) != 0) throw FileError(path, "not a brdfshot database cache (bad magic)");
+  if (header_bytes > size - 16) throw FileError(path, "truncated header");
+  std::string text(header_bytes, '\0');
+  f.Read(text.data(), header_bytes, 16);
+  Layout l;
+  try {
+    l.header = nlohmann::json::parse(text);
+    if (l.header.at("format") != kFormat) throw FileError(path, "another cache format (" + l.header.at("format").dump() + ")");
+    const auto g = l.header.at("grid");
+    if (l.header.at("kind") != id.kind || l.header.at("fingerprint") != id.fingerprint ||
+        !(MerlGrid{g.at(0), g.at(1), g.at(2)} == id.grid))
+      throw FileError(path, "is the cache of another database or source version");
+    l.rows = l.header.at("rows");
+    l.cols = l.header.at("cols");
+    if (l.header.at("block_rows") != kBlockRows) throw FileError(path, "another block size");
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(path, std::string("damaged header: ") + e.what());
+  }
+  if (l.rows != id.grid.size() || l.cols == 0 || l.cols != 3 * l.header["materials"].size())
+    throw FileError(path, "header sizes do not match its grid and materials");
+  l.header_end = 16 + header_bytes;
+  l.gram_bytes = 2 * l.cols * l.cols * sizeof(double);
+  l.blocks = (l.rows + kBlockRows - 1) / kBlockRows;
+  if (size != l.file_size())
+    throw FileError(path, "is " + std::to_string(size) + " bytes, its header says " + std::to_string(l.file_size()) +
+                              " (truncated or damaged)");
+  checksums->resize(2 + l.blocks);
+  f.Read(checksums->data(), checksums->size() * sizeof(uint64_t), l.checksum_offset());
+  if (Checksum64(text.data(), text.size()) != (*checksums)[0]) throw FileError(path, "header checksum mismatch");
+  return l;
+}
+
+std::vector<std::string> Names(const nlohmann::json& header, const char* key) {
+  return header.contains(key) ? header[key].get<std::vector<std::string>>() : std::vector<std::string>{};
+}
+
+std::vector<int> Columns(const std::vector<int>& keep) {
+  std::vector<int> cols;
+  for (int m : keep)
+    for (int c = 0; c < 3; ++c) cols.push_back(3 * m + c);
+  return cols;
+}
+}  // namespace
+
+std::string CachedDatabaseId::FileName() const {
+  return kind + "-" + std::to_string(grid.n_th) + "x" + std::to_string(grid.n_td) + "x" + std::to_string(grid.n_pd) +
+         "-" + fingerprint + ".bsdb";
+}
+
+uint64_t Checksum64(const void* data, size_t bytes) {
+  constexpr uint64_t kMul = 0x9E3779B97F4A7C15ull;
+  uint64_t lane[4] = {0x243F6A8885A308D3ull, 0x13198A2E03707344ull, 0xA4093822299F31D0ull, 0x082EFA98EC4E6C89ull};
+  const auto* p = static_cast<const unsigned char*>(data);
+  size_t i = 0;
+  for (; i + 32 <= bytes; i += 32)
+    for (int k = 0; k < 4; ++k) {
+      uint64_t w;
+      std::memcpy(&w, p + i + 8 * k, 8);
+      lane[k] = (lane[k] ^ w) * kMul;
+      lane[k] ^= lane[k] >> 29;
+    }
+  uint64_t h = bytes * kMul;
+  for (; i < bytes; ++i) h = (h ^ p[i]) * kMul;
+  for (uint64_t v : lane) h = ((h ^ v) * kMul) ^ (h >> 31);
+  return h;
+}
+
+std::string FingerprintFiles(const std::vector<std::string>& files, const std::string& salt) {
+  uint64_t h = Checksum64(salt.data(), salt.size());
+  for (const std::string& f : files) {
+    const std::string bytes = ReadFileBytes(f);
+    const uint64_t parts[2] = {h, Checksum64(bytes.data(), bytes.size())};
+    h = Checksum64(parts, sizeof parts);
+  }
+  return Hex(h);
+}
+
+void WriteDatabaseCache(const std::string& path, const CachedDatabaseId& id, const BasisDatabase& db,
+                        const Eigen::MatrixXd& gram, const Eigen::MatrixXd& gram_cos) {
+  const uint64_t rows = static_cast<uint64_t>(db.B.rows()), cols = static_cast<uint64_t>(db.B.cols());
+  BRDFSHOT_CHECK(rows == db.grid.size() && gram.rows() == static_cast<Eigen::Index>(cols) &&
+                 gram_cos.rows() == static_cast<Eigen::Index>(cols));
+  nlohmann::json h = {{"format", kFormat},     {"kind", id.kind},
+                      {"label", db.label},     {"grid", {db.grid.n_th, db.grid.n_td, db.grid.n_pd}},
+                      {"fingerprint", id.fingerprint}, {"rows", rows},
+                      {"cols", cols},          {"block_rows", kBlockRows},
+                      {"materials", db.materials}};
+  if (!db.families.empty()) h["families"] = db.families;
+  const std::string text = h.dump();
+  const uint64_t header_bytes = text.size();
+  const uint64_t blocks = (rows + kBlockRows - 1) / kBlockRows;
+  std::vector<uint64_t> sums(2 + blocks);
+  sums[0] = Checksum64(text.data(), text.size());
+  std::vector<double> grams(2 * cols * cols);
+  Eigen::Map<Eigen::MatrixXd>(grams.data(), cols, cols) = gram;
+  Eigen::Map<Eigen::MatrixXd>(grams.data() + cols * cols, cols, cols) = gram_cos;
+  sums[1] = Checksum64(grams.data(), grams.size() * sizeof(double));
+#pragma omp parallel for schedule(dynamic, 4)
+  for (long b = 0; b < static_cast<long>(blocks); ++b) {
+    const uint64_t r0 = b * kBlockRows, n = std::min<uint64_t>(kBlockRows, rows - r0);
+    sums[2 + b] = Checksum64(db.B.data() + r0 * cols, n * cols * sizeof(float));
+  }
+  WriteFileAtomic(path, [&](std::ostream& o) {
+    o.write(kMagic, 8);
+    o.write(reinterpret_cast<const char*>(&header_bytes), 8);
+    o.write(text.data(), static_cast<std::streamsize>(text.size()));
+    o.write(reinterpret_cast<const char*>(grams.data()), static_cast<std::streamsize>(grams.size() * sizeof(double)));
+    o.write(reinterpret_cast<const char*>(db.B.data()), static_cast<std::streamsize>(rows * cols * sizeof(float)));
+    o.write(reinterpret_cast<const char*>(sums.data()), static_cast<std::streamsize>(sums.size() * sizeof(uint64_t)));
+  });
+}
+
+BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId& id, const std::vector<int>& keep) {
+  const PositionalFile f(path);
+  std::vector<uint64_t> sums;
+  const Layout l = ReadLayout(f, path, id, &sums);
+  BasisDatabase db;
+  db.kind = id.kind;
+  db.grid = id.grid;
+  db.label = l.header.value("label", "");
+  const std::vector<std::string> names = Names(l.header, "materials"), families = Names(l.header, "families");
+  for (int m : keep) {
+    BRDFSHOT_CHECK(m >= 0 && static_cast<size_t>(m) < names.size());
+    db.materials.push_back(names[m]);
+    if (!families.empty()) db.families.push_back(families.at(m));
+  }
+  const std::vector<int> cols = Columns(keep);
+  const bool all = cols.size() == l.cols;
+  db.B.resize(static_cast<Eigen::Index>(l.rows), static_cast<Eigen::Index>(cols.size()));
+  AdviseHugePages(db.B.data(), sizeof(float) * db.B.size());
+  bool damaged = false;
+#pragma omp parallel
+  {
+    std::vector<float> buffer(all ? 0 : kBlockRows * l.cols);
+#pragma omp for schedule(dynamic, 2)
+    for (long b = 0; b < static_cast<long>(l.blocks); ++b) {
+      const uint64_t r0 = b * kBlockRows, n = std::min<uint64_t>(kBlockRows, l.rows - r0);
+      // With every column kept the block lands in B directly; else it is read
+      // whole (the checksum covers whole blocks) and its kept columns copied.
+      float* dst = all ? db.B.data() + r0 * l.cols : buffer.data();
+      const size_t bytes = n * l.cols * sizeof(float);
+      bool ok = true;
+      try {  // no exception may leave an OpenMP loop
+        f.Read(dst, bytes, l.b_offset() + r0 * l.cols * sizeof(float));
+      } catch (const Error&) {
+        ok = false;
+      }
+      if (!ok || Checksum64(dst, bytes) != sums[2 + b]) {
+#pragma omp atomic write
+        damaged = true;
+        continue;
+      }
+      if (!all)
+        for (uint64_t r = 0; r < n; ++r)
+          for (size_t k = 0; k < cols.size(); ++k) db.B(r0 + r, k) = buffer[r * l.cols + cols[k]];
+    }
+  }
+  if (damaged) throw FileError(path, "table checksum mismatch (damaged)");
+  return db;
+}
+
+DatabaseGrams ReadDatabaseCacheGrams(const std::string& path, const CachedDatabaseId& id,
+                                     const std::vector<int>& keep) {
+  const PositionalFile f(path);
+  std::vector<uint64_t> sums;
+  const Layout l = ReadLayout(f, path, id, &sums);
+  std::vector<double> grams(2 * l.cols * l.cols);
+  f.Read(grams.data(), grams.size() * sizeof(double), l.gram_offset());
+  if (Checksum64(grams.data(), grams.size() * sizeof(double)) != sums[1])
+    throw FileError(path, "Gram checksum mismatch (damaged)");
+  DatabaseGrams g;
+  g.kind = id.kind;
+  g.grid = id.grid;
+  g.label = l.header.value("label", "");
+  const std::vector<std::string> names = Names(l.header, "materials"), families = Names(l.header, "families");
+  for (int m : keep) {
+    g.materials.push_back(names.at(m));
+    if (!families.empty()) g.families.push_back(families.at(m));
+  }
+  const std::vector<int> cols = Columns(keep);
+  const Eigen::Index n = static_cast<Eigen::Index>(l.cols);
+  g.gram = Eigen::Map<const Eigen::MatrixXd>(grams.data(), n, n)(cols, cols);
+  g.gram_cos = Eigen::Map<const Eigen::MatrixXd>(grams.data() + n * n, n, n)(cols, cols);
+  return g;
+}
+
+}  // namespace brdfshot

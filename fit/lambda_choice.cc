@@ -1,0 +1,184 @@
+#include "fit/lambda_choice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "util/check.h"
+
+namespace brdfshot {
+
+std::vector<int> WedgeFolds(const PixelGeometry& g, int folds) {
+  BRDFSHOT_CHECK(folds >= 2);
+  double cx = 0, cy = 0;
+  for (size_t p = 0; p < g.size(); ++p) cx += g.x[p], cy += g.y[p];
+  cx /= std::max<size_t>(1, g.size());
+  cy /= std::max<size_t>(1, g.size());
+  std::vector<int> fold(g.size());
+  for (size_t p = 0; p < g.size(); ++p) {
+    const double a = std::atan2(g.y[p] - cy, g.x[p] - cx) + M_PI;  // [0, 2π]
+    fold[p] = std::min(folds - 1, static_cast<int>(a / (2 * M_PI) * folds));
+  }
+  return fold;
+}
+
+std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR, 3>& Y,
+                                                      const std::vector<int>& fold_of_pixel, int folds) {
+  std::vector<std::array<Eigen::MatrixXd, 3>> out(folds);
+  std::vector<std::vector<int>> rows(folds);
+  for (size_t p = 0; p < fold_of_pixel.size(); ++p) rows[fold_of_pixel[p]].push_back(static_cast<int>(p));
+#pragma omp parallel for schedule(dynamic, 1) collapse(2)
+  for (int k = 0; k < folds; ++k)
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::MatrixXd part = Y[c](rows[k], Eigen::all).cast<double>();
+      Eigen::MatrixXd g = Eigen::MatrixXd::Zero(Y[c].cols(), Y[c].cols());
+      g.selfadjointView<Eigen::Lower>().rankUpdate(part.transpose());
+      out[k][c] = g.selfadjointView<Eigen::Lower>();
+    }
+  return out;
+}
+
+std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
+                                          const std::vector<int>& fold_of_pixel, int folds) {
+  std::vector<Observation> out(folds);
+  for (auto& o : out)
+    for (int c = 0; c < 3; ++c) o.z[c] = Eigen::VectorXd::Zero(Y[c].cols());
+  for (size_t p = 0; p < fold_of_pixel.size(); ++p) {
+    Observation& o = out[fold_of_pixel[p]];
+    for (int c = 0; c < 3; ++c) {
+      o.z[c] += Y[c].row(p).transpose().cast<double>() * y(p, c);
+      o.norm2[c] += y(p, c) * y(p, c);
+    }
+  }
+  return out;
+}
+
+CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
+                     const std::vector<std::vector<int>>& members) {
+  CvSystem cv;
+  cv.held_gram = std::move(held_gram);
+  const int K = static_cast<int>(cv.held_gram.size());
+  cv.train.resize(K);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < K; ++k) {
+    std::array<ChannelFactor, 3> train;
+    for (int c = 0; c < 3; ++c) train[c].gram = f[c].gram - cv.held_gram[k][c];
+    cv.train[k] = FactorClasses(train, members);
+  }
+  return cv;
+}
+
+namespace {
+// Held-out squared error of class `cls` (fold spectrum) for every λ of `grid`,
+// added into `score`.
+void AddFoldScores(const ClassSpectrum& cls, const std::array<Eigen::MatrixXd, 3>& held_gram, const Observation& all,
+                   const Observation& held, const std::vector<double>& grid, std::vector<double>* score) {
+  const std::vector<int>& J = cls.members;
+  const Eigen::Index k = static_cast<Eigen::Index>(J.size());
+  const double cj = static_cast<double>(k);
+  const Eigen::Index L = static_cast<Eigen::Index>(grid.size());
+  const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / cj);
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::VectorXd z_train = (all.z[c] - held.z[c])(J);
+    const double n2_train = all.norm2[c] - held.norm2[c];
+    const Eigen::VectorXd& e = cls.e[c];
+    const Eigen::VectorXd b = cls.V[c].transpose() * (z_train - cls.gram[c] * prior);
+    const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
+    Eigen::MatrixXd D(k, L);
+    for (Eigen::Index l = 0; l < L; ++l) {
+      const double lj = grid[l] * n2_train / cj;
+      for (Eigen::Index i = 0; i < k; ++i) D(i, l) = e[i] + lj > floor ? b[i] / (e[i] + lj) : 0.0;
+    }
+    const Eigen::MatrixXd W = (cls.V[c] * D).colwise() + prior;  // k × L, all λ at once
+    const Eigen::MatrixXd GW = held_gram[c](J, J) * W;
+    const Eigen::VectorXd zh = held.z[c](J);
+    for (Eigen::Index l = 0; l < L; ++l)
+      (*score)[l] += std::max(0.0, W.col(l).dot(GW.col(l)) - 2 * W.col(l).dot(zh) + held.norm2[c]);
+  }
+}
+
+// GCV's n·RSS/(n − dof)² per channel, summed, for every λ of `grid`.
+std::vector<double> GcvScores(const ClassSpectrum& cls, const Observation& obs, double n,
+                              const std::vector<double>& grid) {
+  const std::vector<int>& J = cls.members;
+  const Eigen::Index k = static_cast<Eigen::Index>(J.size());
+  const double cj = static_cast<double>(k);
+  const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / cj);
+  std::vector<double> score(grid.size(), 0.0);
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::VectorXd zJ = obs.z[c](J);
+    const Eigen::VectorXd r = zJ - cls.gram[c] * prior;
+    const double r0 = prior.dot(cls.gram[c] * prior) - 2 * prior.dot(zJ) + obs.norm2[c];
+    const Eigen::VectorXd b = cls.V[c].transpose() * r;
+    const Eigen::VectorXd& e = cls.e[c];
+    const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
+    for (size_t l = 0; l < grid.size(); ++l) {
+      const double lj = grid[l] * obs.norm2[c] / cj;
+      double rss = r0, dof = 0;
+      for (Eigen::Index i = 0; i < k; ++i) {
+        const double den = e[i] + lj;
+        if (den <= floor) continue;
+        rss -= b[i] * b[i] * (2 / den - e[i] / (den * den));
+        dof += e[i] / den;
+      }
+      const double free = std::max(1.0, n - dof);
+      score[l] += n * std::max(0.0, rss) / (free * free);
+    }
+  }
+  return score;
+}
+}  // namespace
+
+LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
+                          const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
+                          size_t pixels, const LambdaChoiceOptions& opt) {
+  LambdaChoice out;
+  out.rule = opt.rule;
+  const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
+  if (opt.rule == "fixed") {
+    const ClasswiseFit fit = SolveClasswise(f, classes, obs, SolveOptions{opt.fixed});
+    out.chosen_class = fit.chosen;
+    out.lambda = opt.fixed;
+    out.grid = {opt.fixed};
+    for (const auto& s : fit.classes) out.score.push_back({s.residual});
+    out.predicted_error = std::sqrt(fit.classes[fit.chosen].residual / std::max(total, 1e-300));
+    return out;
+  }
+  BRDFSHOT_CHECK(opt.rule == "cv" || opt.rule == "gcv", "unknown λ rule " << opt.rule);
+  BRDFSHOT_CHECK(!opt.grid.empty());
+  out.grid = opt.grid;
+  const double inf = std::numeric_limits<double>::infinity();
+  out.score.assign(classes.size(), std::vector<double>(opt.grid.size(), inf));
+  for (size_t j = 0; j < classes.size(); ++j) {
+    if (classes[j].members.empty()) continue;
+    if (opt.rule == "gcv") {
+      out.score[j] = GcvScores(classes[j], obs, opt.gcv_pixel_fraction * static_cast<double>(pixels), opt.grid);
+    } else {
+      BRDFSHOT_CHECK(cv && cv->train.size() == held.size() && !held.empty());
+      std::vector<double> s(opt.grid.size(), 0.0);
+      for (size_t k = 0; k < held.size(); ++k) AddFoldScores(cv->train[k][j], cv->held_gram[k], obs, held[k], opt.grid, &s);
+      out.score[j] = s;
+    }
+  }
+  for (size_t j = 0; j < classes.size(); ++j) {
+    if (classes[j].members.empty()) continue;
+    const double cj = static_cast<double>(classes[j].members.size());
+    for (size_t l = 0; l < opt.grid.size(); ++l)
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::VectorXd& e = classes[j].e[c];
+        const double lj = opt.grid[l] * obs.norm2[c] / cj;
+        if (e.size() && !((e[e.size() - 1] + lj) <= opt.max_condition * (e[0] + lj))) out.score[j][l] = inf;
+      }
+  }
+  double best = inf;
+  for (size_t j = 0; j < classes.size(); ++j)
+    for (size_t l = 0; l < opt.grid.size(); ++l)
+      if (out.score[j][l] < best) best = out.score[j][l], out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
+  BRDFSHOT_CHECK(out.chosen_class >= 0, "no non-empty class to choose");
+  const double n = opt.gcv_pixel_fraction * static_cast<double>(pixels);
+  // GCV·n = RSS/(1 − dof/n)²: the residual inflated to a prediction error.
+  out.predicted_error = std::sqrt((opt.rule == "gcv" ? best * n : best) / std::max(total, 1e-300));
+  return out;
+}
+
+}  // namespace brdfshot

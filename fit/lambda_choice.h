@@ -1,0 +1,87 @@
+// The regularisation weight chosen per capture, from the capture's own pixels.
+//
+// No fixed λ is right: how much the class prior should count depends on the
+// noise, on how well the database spans the material and on how much of the
+// BRDF the lighting shows. The photo itself tells by spatially blocked
+// cross-validation: the sphere's pixels are cut into K wedges around its centre
+// (neighbouring pixels are correlated, so a held-out pixel must be far from the
+// training ones); each wedge is predicted from a fit to the others, for every λ
+// of a grid and every class, and the (class, λ) with the smallest held-out error
+// wins. A wedge sees the light from other directions than the rest, which is
+// the closest the photo comes to the question that matters: how the fit
+// relights under lighting it has not seen.
+//
+// Every fold's normal equations are decomposed once per scene and class
+// (CvSystem), so the whole search over classes and λ for one photo is a few
+// hundred small matrix-vector products. GCV (one decomposition, all λ) is the
+// cheaper alternative, kept for comparison (`rule = "gcv"`).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "fit/solver.h"
+#include "normals/sphere_geometry.h"
+
+namespace brdfshot {
+
+// Pixel → fold: K wedges of equal angle around the pixels' centroid, so each
+// fold spans the sphere from its centre to its rim.
+std::vector<int> WedgeFolds(const PixelGeometry& g, int folds);
+
+// Per fold, per channel: the Gram matrix of the held-out pixels' basis images.
+std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR, 3>& Y,
+                                                      const std::vector<int>& fold_of_pixel, int folds);
+
+// The observation restricted to each fold's pixels.
+std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
+                                          const std::vector<int>& fold_of_pixel, int folds);
+
+// Everything about the folds that does not depend on the photo.
+struct CvSystem {
+  std::vector<std::array<Eigen::MatrixXd, 3>> held_gram;  // [fold][channel], n × n
+  std::vector<std::vector<ClassSpectrum>> train;          // [fold][class]: spectra of G − G_fold
+};
+CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
+                     const std::vector<std::vector<int>>& members);
+
+struct LambdaChoiceOptions {
+  std::string rule = "cv";  // cv | gcv | fixed
+  double fixed = 0.5;       // the weight for rule "fixed"
+  std::vector<double> grid = {0, 1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0};
+  // Effective pixel count for GCV, as a fraction of the pixels (1: every pixel independent).
+  double gcv_pixel_fraction = 1.0;
+  // A λ is a candidate for a class only while the condition number of
+  // G_JJ + λ_j I stays below this. Held-out pixels share the photo's lighting,
+  // so they cannot see directions of w that this lighting hardly excites; an
+  // unregularised fit may swing wildly along them and relight badly under
+  // another probe. The bound keeps every direction's gain at most 1/√bound of
+  // the best-seen one's.
+  double max_condition = 1e6;
+};
+
+struct LambdaChoice {
+  int chosen_class = -1;
+  double lambda = 0;
+  std::string rule;
+  // score[j][i]: the criterion for class j at grid[i] (held-out squared error
+  // summed over folds and RGB for cv; GCV's n·RSS/(n − dof)² for gcv); +inf
+  // for an empty class.
+  std::vector<std::vector<double>> score;
+  std::vector<double> grid;
+  // Relative held-out RMSE of the chosen (class, λ): √(error / Σ‖y‖²), the
+  // fit's predicted error on pixels — and lighting — it was not fitted to.
+  double predicted_error = 0;
+};
+
+// Scores every class at every λ of the grid for `obs` (with its per-fold parts
+// `held` for cv) and picks the best. `pixels`: the observation's pixel count
+// (gcv only). With rule "fixed" the class comes from the residual at opt.fixed.
+// Grid values beyond opt.max_condition score +inf.
+LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
+                          const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
+                          size_t pixels, const LambdaChoiceOptions& opt);
+
+}  // namespace brdfshot

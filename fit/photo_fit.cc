@@ -1,0 +1,221 @@
+#include "fit/photo_fit.h"
+
+#include <cmath>
+
+#include "normals/observation.h"
+#include "util/atomic_file.h"
+#include "util/image_io.h"
+#include "util/check.h"
+#include "util/progress.h"
+
+namespace brdfshot {
+
+void CheckModelMatchesBases(const nlohmann::json& model_json, const std::string& model_source,
+                            const std::vector<std::string>& names) {
+  const auto& bases = model_json.at("bases");
+  if (bases.size() != names.size())
+    throw FileError(model_source, "has " + std::to_string(bases.size()) + " bases, the basis images " +
+                                      std::to_string(names.size()));
+  for (size_t i = 0; i < names.size(); ++i)
+    if (bases[i].at("name") != names[i])
+      throw FileError(model_source, "basis " + std::to_string(i) + " is '" + bases[i]["name"].get<std::string>() +
+                                        "', the basis images have '" + names[i] + "'");
+}
+
+PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen::MatrixXd& y,
+                  const PhotoFitOptions& opt) {
+  BRDFSHOT_CHECK(static_cast<size_t>(y.rows()) == basis.geometry.size() && y.cols() == 3);
+  BRDFSHOT_CHECK(model.label.size() == static_cast<size_t>(basis.Y[0].cols()));
+  PhotoFit out;
+  Stopwatch sw;
+  std::array<ChannelFactor, 3> f = FactorBasisImages(basis.Y);
+  std::vector<std::vector<int>> members(model.classes());
+  for (size_t i = 0; i < model.label.size(); ++i) members[model.label[i]].push_back(static_cast<int>(i));
+  const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
+  const bool cv = opt.lambda.rule == "cv";
+  const int folds = std::max(2, opt.folds);
+  std::vector<int> fold_of_pixel;
+  CvSystem cv_system;
+  if (cv) {
+    fold_of_pixel = WedgeFolds(basis.geometry, folds);
+    cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
+  }
+  out.seconds_factor = sw.Seconds();
+
+  Stopwatch solve;
+  Observation obs = MakeObservation(f, basis.Y, y);
+  const std::vector<Observation> held = cv ? FoldObservations(basis.Y, y, fold_of_pixel, folds) : std::vector<Observation>{};
+  out.choice = ChooseLambda(f, classes, cv ? &cv_system : nullptr, obs, held, basis.geometry.size(), opt.lambda);
+  std::vector<double> lambda(classes.size(), out.choice.lambda);
+  out.fit = SolveClasswise(f, classes, obs, lambda);
+  out.seconds_solve = solve.Seconds();
+  // The chosen class by the rule, even where another class's data residual is lower.
+  out.fit.chosen = out.choice.chosen_class;
+  if (out.fit.classes[out.fit.chosen].condition[0] * out.fit.classes[out.fit.chosen].condition[0] > kMaxNormalCondition ||
+      out.fit.classes[out.fit.chosen].path != "normal") {
+    // Too ill-conditioned for the normal equations (λ near 0): solve the chosen
+    // class again through the QR of Y.
+    AddQr(basis.Y, &f);
+    obs = MakeObservation(f, basis.Y, y);
+    out.fit.classes[out.fit.chosen] = SolveClass(f, classes[out.fit.chosen], obs, out.choice.lambda);
+  }
+  const Eigen::MatrixXd& w = out.fit.weights();
+  out.reconstruction.resize(y.rows(), 3);
+  for (int c = 0; c < 3; ++c) out.reconstruction.col(c) = basis.Y[c].cast<double>() * w.col(c);
+  out.relative_residual = std::sqrt((out.reconstruction - y).squaredNorm() / std::max(1e-300, y.squaredNorm()));
+  return out;
+}
+
+FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std::string& photo) {
+  FitRecord r;
+  r.database = basis.header.value("database", "");
+  r.database_kind = basis.header.value("database_kind", "");
+  const auto& g = basis.header.at("grid");
+  r.grid = MerlGrid{g.at(0), g.at(1), g.at(2)};
+  r.probe = basis.header.value("probe", "");
+  r.photo = photo;
+  r.lambda_rule = f.choice.rule;
+  r.lambda = f.choice.lambda;
+  r.predicted_relit_error = f.choice.predicted_error;
+  r.chosen_class = f.fit.chosen;
+  r.relative_residual = f.relative_residual;
+  for (const ClassSolution& s : f.fit.classes) r.classes.push_back({s.members, s.residual, s.condition[1], s.path});
+  r.lambda_grid = f.choice.grid;
+  r.lambda_scores = f.choice.score;
+  r.bases = basis.BasisNames();
+  r.weights = f.fit.weights();
+  r.seconds_factor = f.seconds_factor;
+  r.seconds_solve = f.seconds_solve;
+  return r;
+}
+
+namespace {
+constexpr const char* kFitFormat = "brdfshot-fit-2";
+// JSON has no infinity: an empty class's score is written as null.
+nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+double FromFinite(const nlohmann::json& j) {
+  return j.is_null() ? std::numeric_limits<double>::infinity() : j.get<double>();
+}
+}  // namespace
+
+nlohmann::json FitRecord::ToJson() const {
+  nlohmann::json j;
+  j["format"] = kFitFormat;
+  j["database"] = database;
+  j["database_kind"] = database_kind;
+  j["grid"] = {grid.n_th, grid.n_td, grid.n_pd};
+  j["probe"] = probe;
+  j["photo"] = photo;
+  j["lambda"] = lambda;
+  j["lambda_rule"] = lambda_rule;
+  j["predicted_relit_error"] = predicted_relit_error;
+  j["chosen_class"] = chosen_class;
+  j["relative_residual"] = relative_residual;
+  j["classes"] = nlohmann::json::array();
+  for (size_t k = 0; k < classes.size(); ++k)
+    j["classes"].push_back({{"class", k}, {"members", classes[k].members}, {"residual", Finite(classes[k].residual)},
+                            {"condition", Finite(classes[k].condition)}, {"path", classes[k].path}});
+  nlohmann::json curve = nlohmann::json::array();
+  for (const auto& row : lambda_scores) {
+    nlohmann::json r = nlohmann::json::array();
+    for (double v : row) r.push_back(Finite(v));
+    curve.push_back(r);
+  }
+  j["lambda_choice"] = {{"rule", lambda_rule},
+                        {"grid", lambda_grid},
+                        {"score_per_class", curve},
+                        {"why", lambda_rule == "cv"   ? "smallest held-out error over wedges of the sphere, any class"
+                                : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class"
+                                                       : "given by --lambda; class by residual"}};
+  j["bases"] = bases;
+  j["weights"] = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < weights.rows(); ++i) j["weights"].push_back({weights(i, 0), weights(i, 1), weights(i, 2)});
+  j["seconds"] = {{"factor", seconds_factor}, {"solve", seconds_solve}};
+  return j;
+}
+
+FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source) {
+  try {
+    if (j.at("format") != kFitFormat)
+      throw FileError(source, "not a fit.json of this version (format " + j.at("format").dump() + "): fit again");
+    FitRecord r;
+    r.database = j.at("database");
+    r.database_kind = j.at("database_kind");
+    const auto& g = j.at("grid");
+    r.grid = MerlGrid{g.at(0), g.at(1), g.at(2)};
+    r.probe = j.at("probe");
+    r.photo = j.at("photo");
+    r.lambda = j.at("lambda");
+    r.lambda_rule = j.at("lambda_rule");
+    r.predicted_relit_error = j.at("predicted_relit_error");
+    r.chosen_class = j.at("chosen_class");
+    r.relative_residual = j.at("relative_residual");
+    for (const auto& c : j.at("classes"))
+      r.classes.push_back({c.at("members").get<int>(), FromFinite(c.at("residual")), FromFinite(c.at("condition")),
+                           c.at("path").get<std::string>()});
+    r.lambda_grid = j.at("lambda_choice").at("grid").get<std::vector<double>>();
+    for (const auto& row : j.at("lambda_choice").at("score_per_class")) {
+      std::vector<double> v;
+      for (const auto& x : row) v.push_back(FromFinite(x));
+      r.lambda_scores.push_back(v);
+    }
+    r.bases = j.at("bases").get<std::vector<std::string>>();
+    const auto w = j.at("weights").get<std::vector<std::array<double, 3>>>();
+    if (w.size() != r.bases.size()) throw FileError(source, "weights do not match the bases");
+    if (r.chosen_class < 0 || static_cast<size_t>(r.chosen_class) >= r.classes.size())
+      throw FileError(source, "chosen_class out of range");
+    r.weights.resize(static_cast<Eigen::Index>(w.size()), 3);
+    for (size_t i = 0; i < w.size(); ++i)
+      for (int c = 0; c < 3; ++c) r.weights(static_cast<Eigen::Index>(i), c) = w[i][c];
+    r.seconds_factor = j.at("seconds").at("factor");
+    r.seconds_solve = j.at("seconds").at("solve");
+    return r;
+  } catch (const nlohmann::json::exception& e) {
+    throw FileError(source, std::string("not a fit.json: ") + e.what());
+  }
+}
+
+void FitRecord::Write(const std::string& path) const {
+  const std::string text = ToJson().dump(1);
+  WriteFileAtomic(path, [&](std::ostream& o) { o << text << "\n"; });
+}
+
+FitRecord FitRecord::Read(const std::string& path) { return FromJson(ReadJsonFile(path), path); }
+
+Eigen::MatrixXd ReadFitPixels(const BasisImages& basis, const std::string& basis_path, const std::string& photo_path,
+                              const std::string& obs_path) {
+  Eigen::MatrixXd y(basis.geometry.size(), 3);
+  if (!obs_path.empty()) {
+    const Observations obs = Observations::Read(obs_path);
+    if (obs.geometry.Hash() != basis.geometry.Hash())
+      throw FileError(obs_path, "its pixels are not the ones " + basis_path +
+                                    " was computed for: run 'brdfshot basis --obs " + obs_path + "'");
+    return obs.rgb;
+  }
+  const cv::Mat photo = ReadHdrImage(photo_path);
+  if (photo.cols != basis.geometry.width || photo.rows != basis.geometry.height)
+    throw FileError(photo_path, "is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
+                                    ", the basis images are for " + std::to_string(basis.geometry.width) + "x" +
+                                    std::to_string(basis.geometry.height));
+  for (size_t p = 0; p < basis.geometry.size(); ++p) {
+    const cv::Vec3f v = photo.at<cv::Vec3f>(basis.geometry.y[p], basis.geometry.x[p]);
+    for (int c = 0; c < 3; ++c) y(static_cast<Eigen::Index>(p), c) = v[c];
+  }
+  return y;
+}
+
+MerlBrdf BrdfOfFit(const FitRecord& record, DatabaseOptions opt, std::string* label) {
+  opt.kind = record.database_kind;
+  opt.grid = record.grid;
+  opt.only = MaterialsOfBases(record.bases);
+  opt.exclude.clear();
+  opt.max_materials = 0;
+  const BasisDatabase base = LoadDatabase(opt);
+  if (static_cast<Eigen::Index>(base.num_bases()) != record.weights.rows())
+    throw Error("the fit's " + std::to_string(record.weights.rows()) + " bases are not in the database (" +
+                std::to_string(base.num_bases()) + " found)");
+  if (label) *label = "fit over " + base.label;
+  return CombineBases(base, record.weights);
+}
+
+}  // namespace brdfshot

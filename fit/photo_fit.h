@@ -1,0 +1,82 @@
+// Fitting one photo: its pixels, the scene's basis images and the database's
+// class model in, the weights and how they were chosen out — and the fit.json
+// that records it (one writer, one reader).
+#pragma once
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "fit/basis_images.h"
+#include "fit/database.h"
+#include "fit/class_model.h"
+#include "fit/lambda_choice.h"
+#include "fit/solver.h"
+
+namespace brdfshot {
+
+struct PhotoFitOptions {
+  LambdaChoiceOptions lambda;  // rule "cv" by default; "fixed" with --lambda
+  int folds = 6;               // wedges for cross-validation
+};
+
+struct PhotoFit {
+  ClasswiseFit fit;            // every class solved at its λ; fit.chosen is the pick
+  LambdaChoice choice;
+  Eigen::MatrixXd reconstruction;  // pixels × 3: Y w, the fit in the photo's own lighting
+  double relative_residual = 0;    // ‖Y w − y‖ / ‖y‖
+  double seconds_factor = 0;       // photo-independent: Gram matrices, class and fold spectra
+  double seconds_solve = 0;        // the photo's projections, the λ search and the solve
+};
+
+// Checks that `model` was built for `basis`'s bases (same names, same order);
+// FileError naming `model_source` otherwise.
+void CheckModelMatchesBases(const nlohmann::json& model_json, const std::string& model_source,
+                            const std::vector<std::string>& basis_names);
+
+// y: pixels × 3 in the order of basis.geometry.
+PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen::MatrixXd& y,
+                  const PhotoFitOptions& opt);
+
+// fit.json: what `fit` wrote, what `render --weights` and `report` read.
+struct FitRecord {
+  std::string database, database_kind, probe, photo;
+  MerlGrid grid;
+  std::string lambda_rule;
+  double lambda = 0;
+  double predicted_relit_error = 0;
+  int chosen_class = -1;
+  double relative_residual = 0;
+  struct ClassRow {
+    int members = 0;
+    double residual = 0, condition = 0;
+    std::string path;
+  };
+  std::vector<ClassRow> classes;
+  std::vector<double> lambda_grid;
+  std::vector<std::vector<double>> lambda_scores;  // [class][grid]
+  std::vector<std::string> bases;
+  Eigen::MatrixXd weights;  // bases × 3
+  double seconds_factor = 0, seconds_solve = 0;
+
+  static FitRecord From(const PhotoFit& f, const BasisImages& basis, const std::string& photo);
+  nlohmann::json ToJson() const;
+  static FitRecord FromJson(const nlohmann::json& j, const std::string& source);
+  void Write(const std::string& path) const;  // atomic
+  static FitRecord Read(const std::string& path);
+};
+
+// The photo's pixels in the order of `basis`'s geometry: from an observation
+// file (remap's output, checked to be the basis images' pixels) or, with
+// `obs_path` empty, a linear HDR image of the basis images' size. Errors name
+// the file.
+Eigen::MatrixXd ReadFitPixels(const BasisImages& basis, const std::string& basis_path, const std::string& photo_path,
+                              const std::string& obs_path);
+
+// The fitted BRDF on the database's grid: Σ w_i b_i over the record's bases,
+// which are reloaded through `opt` (kind and grid from the record). `label`
+// says what it is.
+MerlBrdf BrdfOfFit(const FitRecord& record, DatabaseOptions opt, std::string* label = nullptr);
+
+}  // namespace brdfshot
