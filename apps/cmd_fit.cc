@@ -20,7 +20,7 @@ int FitMain(int argc, char** argv) {
   DatabaseArgs db;
   QualityArgs quality;
   PhotoFitOptions fo;
-  std::string basis_path, photo_path, obs_path, classes_path, out = "fit_out", previews;
+  std::string basis_path, photo_path, obs_path, classes_path, out = "fit_out", previews, grid;
   double lambda = -1;
   po::options_description desc("options");
   desc.add_options()
@@ -32,6 +32,7 @@ int FitMain(int argc, char** argv) {
        "how the regularisation weight is chosen: cv (held-out wedges of the sphere), gcv, or fixed (--lambda)")
       ("lambda", po::value(&lambda), "fix the regularisation weight (the paper's: 0.5); implies --lambda-rule fixed")
       ("folds", po::value(&fo.folds)->default_value(fo.folds), "wedges for --lambda-rule cv")
+      ("lambda-grid", po::value(&grid), "comma-separated λ values the rule chooses among (default: 0 … 10)")
       ("out,o", po::value(&out)->default_value(out), "output folder")
       ("preview-probes", po::value(&previews), "probes to relight the result under (default: two of <data>/envmaps)");
   db.Add(desc);
@@ -46,6 +47,7 @@ int FitMain(int argc, char** argv) {
     throw Error("unknown --lambda-rule '" + fo.lambda.rule + "': cv, gcv or fixed");
   if (fo.lambda.rule == "fixed" && lambda < 0) fo.lambda.fixed = 0.5;
   if (fo.folds < 2) throw Error("--folds must be at least 2");
+  if (!grid.empty()) fo.lambda.grid = ParseLambdaGrid(grid);
 
   const BasisImages basis = BasisImages::Read(basis_path);
   const nlohmann::json model_json = ReadJsonFile(classes_path);

@@ -78,6 +78,15 @@ std::vector<double> ParseNumberList(const std::string& text, size_t count, const
   return v;
 }
 
+std::vector<double> ParseLambdaGrid(const std::string& text) {
+  const std::vector<std::string> parts = SplitList(text);
+  std::vector<double> grid = ParseNumberList(text, parts.size(), "--lambda-grid", "comma-separated numbers ≥ 0");
+  if (grid.empty()) throw Error("bad --lambda-grid '" + text + "': give at least one value");
+  for (double v : grid)
+    if (!(v >= 0 && std::isfinite(v))) throw Error("bad --lambda-grid '" + text + "': every value must be finite and ≥ 0");
+  return grid;
+}
+
 void QualityArgs::Add(po::options_description& d) {
   d.add_options()
       ("theta-samples", po::value(&q.theta_samples)->default_value(q.theta_samples), "half-vector samples along sqrt(theta_h)")

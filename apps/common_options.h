@@ -35,6 +35,9 @@ std::vector<double> ParseNumberList(const std::string& text, size_t count, const
 // or not finite.
 double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo, const std::string& prefix = "");
 
+// "0,0.01,0.1,1": λ values, each finite and ≥ 0; Error quoting the text otherwise.
+std::vector<double> ParseLambdaGrid(const std::string& text);
+
 struct QualityArgs {
   RenderQuality q;
   void Add(boost::program_options::options_description& d);

@@ -129,6 +129,13 @@ std::vector<double> GcvScores(const ClassSpectrum& cls, const Observation& obs, 
 }
 }  // namespace
 
+std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int>>& classes,
+                                               const std::vector<int>& all, const LambdaChoiceOptions& opt) {
+  std::vector<std::vector<int>> out = classes;
+  if (opt.all_bases_candidate && opt.rule != "fixed") out.push_back(all);
+  return out;
+}
+
 LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
                           size_t pixels, const LambdaChoiceOptions& opt) {
@@ -149,16 +156,23 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   out.grid = opt.grid;
   const double inf = std::numeric_limits<double>::infinity();
   out.score.assign(classes.size(), std::vector<double>(opt.grid.size(), inf));
+  // Cross-validation scores whenever the folds are given: the choice for rule
+  // cv, the predicted error for both rules.
+  std::vector<std::vector<double>> cv_score(classes.size(), std::vector<double>(opt.grid.size(), inf));
   for (size_t j = 0; j < classes.size(); ++j) {
     if (classes[j].members.empty()) continue;
-    if (opt.rule == "gcv") {
+    if (opt.rule == "gcv")
       out.score[j] = GcvScores(classes[j], obs, opt.gcv_pixel_fraction * static_cast<double>(pixels), opt.grid);
-    } else {
-      BRDFSHOT_CHECK(cv && cv->train.size() == held.size() && !held.empty());
+    if (cv) {
+      BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty() && cv->train[0].size() == classes.size());
       std::vector<double> s(opt.grid.size(), 0.0);
       for (size_t k = 0; k < held.size(); ++k) AddFoldScores(cv->train[k][j], cv->held_gram[k], obs, held[k], opt.grid, &s);
-      out.score[j] = s;
+      cv_score[j] = s;
     }
+  }
+  if (opt.rule == "cv") {
+    BRDFSHOT_CHECK(cv, "rule cv needs the folds");
+    out.score = cv_score;
   }
   for (size_t j = 0; j < classes.size(); ++j) {
     if (classes[j].members.empty()) continue;
@@ -175,9 +189,13 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     for (size_t l = 0; l < opt.grid.size(); ++l)
       if (out.score[j][l] < best) best = out.score[j][l], out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
   BRDFSHOT_CHECK(out.chosen_class >= 0, "no non-empty class to choose");
+  size_t chosen_l = 0;
+  while (opt.grid[chosen_l] != out.lambda) ++chosen_l;
   const double n = opt.gcv_pixel_fraction * static_cast<double>(pixels);
-  // GCV·n = RSS/(1 − dof/n)²: the residual inflated to a prediction error.
-  out.predicted_error = std::sqrt((opt.rule == "gcv" ? best * n : best) / std::max(total, 1e-300));
+  // Held-out error where the folds are given; else GCV·n = RSS/(1 − dof/n)²,
+  // the residual inflated to a prediction error.
+  const double predicted = cv ? cv_score[out.chosen_class][chosen_l] : best * n;
+  out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
   return out;
 }
 

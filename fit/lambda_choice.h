@@ -13,8 +13,14 @@
 //
 // Every fold's normal equations are decomposed once per scene and class
 // (CvSystem), so the whole search over classes and λ for one photo is a few
-// hundred small matrix-vector products. GCV (one decomposition, all λ) is the
-// cheaper alternative, kept for comparison (`rule = "gcv"`).
+// hundred small matrix-vector products.
+//
+// Generalised cross-validation (one decomposition per class, all λ at once)
+// picks by default: on leave-one-out over MERL it relights better than the
+// wedges do (docs/benchmarks.md). The wedges' held-out error is the fit's
+// predicted error either way: it ranks fits by their actual relit error far
+// better than GCV's own estimate, which counts correlated pixels as
+// independent.
 #pragma once
 
 #include <Eigen/Core>
@@ -48,9 +54,12 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
                      const std::vector<std::vector<int>>& members);
 
 struct LambdaChoiceOptions {
-  std::string rule = "cv";  // cv | gcv | fixed
+  std::string rule = "gcv";  // gcv | cv | fixed (docs/method.md, "Choosing λ")
+  // Also offer every basis as one more candidate "class" (prior 1/n): the
+  // criterion then decides whether the class restriction helps this photo.
+  bool all_bases_candidate = false;
   double fixed = 0.5;       // the weight for rule "fixed"
-  std::vector<double> grid = {0, 1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0};
+  std::vector<double> grid = {0, 1e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0};
   // Effective pixel count for GCV, as a fraction of the pixels (1: every pixel independent).
   double gcv_pixel_fraction = 1.0;
   // A λ is a candidate for a class only while the condition number of
@@ -71,15 +80,22 @@ struct LambdaChoice {
   // for an empty class.
   std::vector<std::vector<double>> score;
   std::vector<double> grid;
-  // Relative held-out RMSE of the chosen (class, λ): √(error / Σ‖y‖²), the
-  // fit's predicted error on pixels — and lighting — it was not fitted to.
+  // Relative held-out RMSE of the chosen (class, λ): √(error / Σ‖y‖²) over
+  // the wedges when folds are given (else GCV's estimate): the fit's predicted
+  // error on pixels — and lighting — it was not fitted to.
   double predicted_error = 0;
 };
 
-// Scores every class at every λ of the grid for `obs` (with its per-fold parts
-// `held` for cv) and picks the best. `pixels`: the observation's pixel count
+// Scores every class at every λ of the grid for `obs` and picks the best. With
+// `cv` (and the observation's per-fold parts `held`) the predicted error is the
+// held-out error of the pick, whichever rule picked. `pixels`: the observation's pixel count
 // (gcv only). With rule "fixed" the class comes from the residual at opt.fixed.
 // Grid values beyond opt.max_condition score +inf.
+// The candidate member lists: the model's classes, then (when asked) every
+// basis in `all` as one more.
+std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int>>& classes,
+                                               const std::vector<int>& all, const LambdaChoiceOptions& opt);
+
 LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
                           size_t pixels, const LambdaChoiceOptions& opt);

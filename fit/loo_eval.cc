@@ -57,6 +57,36 @@ double Median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+namespace {
+std::vector<double> Ranks(const std::vector<double>& v) {
+  std::vector<size_t> order(v.size());
+  for (size_t i = 0; i < v.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return v[a] < v[b]; });
+  std::vector<double> rank(v.size());
+  for (size_t i = 0; i < order.size();) {
+    size_t j = i;
+    while (j + 1 < order.size() && v[order[j + 1]] == v[order[i]]) ++j;
+    for (size_t k = i; k <= j; ++k) rank[order[k]] = 0.5 * static_cast<double>(i + j);
+    i = j + 1;
+  }
+  return rank;
+}
+}  // namespace
+
+double SpearmanCorrelation(const std::vector<double>& a, const std::vector<double>& b) {
+  BRDFSHOT_CHECK(a.size() == b.size());
+  if (a.size() < 2) return 0;
+  const std::vector<double> ra = Ranks(a), rb = Ranks(b);
+  const double mean = 0.5 * static_cast<double>(a.size() - 1);
+  double sab = 0, saa = 0, sbb = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    sab += (ra[i] - mean) * (rb[i] - mean);
+    saa += (ra[i] - mean) * (ra[i] - mean);
+    sbb += (rb[i] - mean) * (rb[i] - mean);
+  }
+  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
+}
+
 LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
   const int M = static_cast<int>(in.materials.size());
   const int n = 3 * M;
@@ -77,6 +107,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     ours_opt.paper_mstep = false;
     paper_opt.paper_mstep = true;
     const auto ours_members = MembersInFull(BuildClassModel(gk, ours_opt), keep);
+    const auto auto_members = CandidateMembers(ours_members, keep, opt.choice);
     const auto paper_members = MembersInFull(BuildClassModel(gk, paper_opt), keep);
     const Eigen::MatrixXd oracle = OracleWeights(in.gram_cos, keep, m);
     t_cluster[m] = sw.Seconds();
@@ -93,9 +124,25 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
         Eigen::MatrixXd w;
         int cls;
       };
-      const ClasswiseFit ours = SolveClasswise(fa, obs, ours_members, so);
+      const std::vector<ClassSpectrum> ours_classes = FactorClasses(fa, ours_members);
+      const ClasswiseFit ours = SolveClasswise(fa, ours_classes, obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, obs, paper_members, so);
-      const Method methods[] = {{"ours", ours.weights(), ours.chosen},
+      // The default fit: folds of this scene without material m's columns.
+      const int K = static_cast<int>(in.scenes[a].fold_gram.size());
+      std::vector<Observation> held(K);
+      for (int k = 0; k < K; ++k)
+        for (int c = 0; c < 3; ++c) {
+          held[k].z[c] = in.scenes[a].fold_gram[k][c].col(3 * m + c);
+          held[k].norm2[c] = in.scenes[a].fold_gram[k][c](3 * m + c, 3 * m + c);
+        }
+      CvSystem cv;
+      cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members);
+      const std::vector<ClassSpectrum> auto_classes =
+          auto_members.size() == ours_members.size() ? ours_classes : FactorClasses(fa, auto_members);
+      const LambdaChoice choice = ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels, opt.choice);
+      const ClassSolution chosen = SolveClass(fa, auto_classes[choice.chosen_class], obs, choice.lambda);
+      const Method methods[] = {{"auto", chosen.weights, choice.chosen_class},
+                                {"ours", ours.weights(), ours.chosen},
                                 {"paper", paper.weights(), paper.chosen},
                                 {"lsq", SolveLeastSquares(fa, obs, keep), -1},
                                 {"oracle", oracle, -1}};
@@ -105,6 +152,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
         row.probe = in.scenes[a].probe;
         row.method = meth.name;
         row.chosen_class = meth.cls;
+        if (std::string(meth.name) == "auto") row.lambda = choice.lambda, row.predicted = choice.predicted_error;
+        if (std::string(meth.name) == "ours" || std::string(meth.name) == "paper") row.lambda = opt.lambda;
         std::vector<double> relit;
         for (int b = 0; b < S; ++b) {
           if (b == a && S > 1) continue;

@@ -32,7 +32,8 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   std::vector<std::vector<int>> members(model.classes());
   for (size_t i = 0; i < model.label.size(); ++i) members[model.label[i]].push_back(static_cast<int>(i));
   const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
-  const bool cv = opt.lambda.rule == "cv";
+  // The folds serve the choice (rule cv) and the predicted error (any rule).
+  const bool cv = opt.lambda.rule != "fixed";
   const int folds = std::max(2, opt.folds);
   std::vector<int> fold_of_pixel;
   CvSystem cv_system;

@@ -114,3 +114,53 @@ TEST(Solver, FewerPixelsThanBasesStillSolves) {
 }
 
 }  // namespace brdfshot
+
+namespace brdfshot {
+
+TEST(Solver, NormalEquationsAndQrAgreeOnWellConditionedSystems) {
+  const auto Y = Images(500, 30, 11);
+  const auto f = FactorBasisImages(Y, true);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g;
+  Eigen::MatrixXd y(500, 3);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) = 20 + g(rng);
+  const Observation obs = MakeObservation(f, Y, y);
+  const std::vector<int> J = {0, 2, 3, 5, 8, 9, 12, 17, 21, 22, 29};
+  const ClassSpectrum cls = FactorClasses(f, {J})[0];
+  const Eigen::VectorXd prior = Eigen::VectorXd::Constant(J.size(), 1.0 / J.size());
+  for (double lambda : {1e-3, 0.05, 0.5, 5.0}) {
+    const ClassSolution s = SolveClass(f, cls, obs, lambda);
+    EXPECT_EQ(s.path, "normal") << "lambda " << lambda;
+    for (int c = 0; c < 3; ++c) {
+      // The QR route on the augmented system, never squared.
+      const Eigen::VectorXd qr = SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], s.lambda_j[c], prior);
+      const Eigen::VectorXd ne = s.weights.col(c)(J);
+      EXPECT_LT((ne - qr).norm(), 1e-6 * qr.norm()) << "lambda " << lambda << " channel " << c;
+    }
+  }
+}
+
+TEST(Solver, SingularSystemTakesTheQrPathAndWithoutItTheTruncatedOne) {
+  auto Y = Images(200, 10, 12);
+  for (int c = 0; c < 3; ++c) Y[c].col(7) = Y[c].col(1);  // exactly collinear: G is singular
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(10, 3);
+  w.row(1).setConstant(0.8);
+  w.row(4).setConstant(0.3);
+  const std::vector<int> all = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+  const auto with_qr = FactorBasisImages(Y, true), without = FactorBasisImages(Y, false);
+  const ClassSolution a = SolveClass(with_qr, FactorClasses(with_qr, {all})[0], MakeObservation(with_qr, Y, Render(Y, w)), 0.0);
+  const ClassSolution b = SolveClass(without, FactorClasses(without, {all})[0], MakeObservation(without, Y, Render(Y, w)), 0.0);
+  EXPECT_EQ(a.path, "qr");
+  EXPECT_EQ(b.path, "normal-truncated");
+  for (const ClassSolution* s : {&a, &b}) {
+    ASSERT_TRUE(s->weights.allFinite()) << s->path;
+    // Minimum-norm correction: the twins share the weight equally about the prior.
+    EXPECT_NEAR(s->weights(1, 0), s->weights(7, 0), 1e-6) << s->path;
+    EXPECT_LT((Render(Y, s->weights) - Render(Y, w)).norm(), 1e-6 * Render(Y, w).norm()) << s->path;
+  }
+  // A well-conditioned λ keeps the normal equations.
+  EXPECT_EQ(SolveClass(with_qr, FactorClasses(with_qr, {all})[0], MakeObservation(with_qr, Y, Render(Y, w)), 0.5).path,
+            "normal");
+}
+
+}  // namespace brdfshot

@@ -35,8 +35,14 @@ grep -q -- "--rotate-from-ball" "$T/rlog" || { echo "FAIL calib did not use the 
 ypr=$(sed -n 's/.*yaw\/pitch\/roll \[\([^]]*\)\].*/\1/p' "$RR/report.md")
 awk -v s="$ypr" 'BEGIN{n=split(s,a,","); exit !(n==3 && (a[1]-40)^2<0.25 && (a[2]-10)^2<0.25 && (a[3]+5)^2<0.25)}' ||
   { echo "FAIL rotation from the ball '$ypr', truth 40,10,-5 (bound 0.5 deg each)"; fail=1; }
+# The rotated studio lights the sphere mostly from behind, which leaves the
+# fit itself poorly determined; what the stages must do is add little to the
+# error of a fit from perfect inputs (true photo, sphere, probe and rotation).
+run OUT="$T/rot" SYNTH="--rotate 40,10,-5 --mirror-ball 300" PERFECT=1 > "$T/plog" 2>&1 || { cat "$T/plog"; echo "FAIL make (rotated, perfect inputs)"; exit 1; }
 rerr=$(grep -o 'relative RMSE \*\*[0-9.]*' "$RR/report.md" | head -1 | grep -o '[0-9.]*$')
-awk -v e="$rerr" 'BEGIN{exit !(e != "" && e < 0.08)}' || { echo "FAIL relit error with the ball's rotation '$rerr'"; fail=1; }
+perr=$(grep -o 'relative RMSE \*\*[0-9.]*' "$RR-perfect/report.md" | head -1 | grep -o '[0-9.]*$')
+awk -v e="$rerr" -v p="$perr" 'BEGIN{exit !(e != "" && p != "" && e < 1.1 * p + 0.01)}' ||
+  { echo "FAIL relit error with the ball's rotation '$rerr', from perfect inputs '$perr'"; fail=1; }
 # Any database: the same capture fitted with the 16 demo stand-ins (a coarse
 # grid); the truth is still rendered from its own source.
 run OUT="$T/std" DBARGS="--db standin --data assets --grid 30x30x60" > "$T/slog" 2>&1 || { cat "$T/slog"; echo "FAIL make (stand-in database)"; exit 1; }
@@ -44,5 +50,5 @@ RS="$T/std/results/demo-red-plastic"
 grep -q 'database: stand-in' "$RS/report.md" || { echo "FAIL not fitted with the stand-in database"; fail=1; }
 serr=$(grep -o 'relative RMSE \*\*[0-9.]*' "$RS/report.md" | grep -o '[0-9.]*$' | sort -g | tail -1)
 awk -v e="$serr" 'BEGIN{exit !(e != "" && e < 0.25)}' || { echo "FAIL relit error with the stand-in database '$serr'"; fail=1; }
-[ "$fail" = 0 ] && echo "samples Makefile: centre off $off px, worst relit error $err (MERL NBRDF); rotated capture: ball gives $ypr deg, relit error $rerr; stand-in database: $serr"
+[ "$fail" = 0 ] && echo "samples Makefile: centre off $off px, worst relit error $err (MERL NBRDF); rotated capture: ball gives $ypr deg, relit error $rerr (perfect inputs $perr); stand-in database: $serr"
 exit $fail

@@ -1,0 +1,211 @@
+#include "fit/lambda_choice.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "fit/photo_fit.h"
+#include "util/check.h"
+
+namespace brdfshot {
+
+namespace {
+struct Scene {
+  PixelGeometry g;
+  std::array<MatrixXfR, 3> Y;
+};
+// A 24-px orthographic sphere with smooth random "basis images": each basis is
+// a random quadratic in the normal, so neighbouring pixels are correlated as
+// real ones are.
+Scene MakeScene(int n, uint32_t seed) {
+  Scene s;
+  s.g = OrthographicSphere(24, 80);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.2, 1.0);
+  for (int c = 0; c < 3; ++c) {
+    s.Y[c].resize(static_cast<Eigen::Index>(s.g.size()), n);
+    for (int j = 0; j < n; ++j) {
+      const double a = u(rng), bx = u(rng) - 0.6, by = u(rng) - 0.6, bz = u(rng), q = u(rng) - 0.6;
+      for (size_t p = 0; p < s.g.size(); ++p) {
+        const Vec3& m = s.g.normal[p];
+        s.Y[c](static_cast<Eigen::Index>(p), j) = static_cast<float>(a + bx * m.x + by * m.y + bz * m.z + q * m.x * m.y);
+      }
+    }
+  }
+  return s;
+}
+Eigen::MatrixXd Render(const Scene& s, const Eigen::MatrixXd& w) {
+  Eigen::MatrixXd y(s.Y[0].rows(), 3);
+  for (int c = 0; c < 3; ++c) y.col(c) = s.Y[c].cast<double>() * w.col(c);
+  return y;
+}
+}  // namespace
+
+TEST(LambdaChoice, WedgesCoverTheSphereEvenlyAndTheirGramsAddUp) {
+  const Scene s = MakeScene(8, 1);
+  const std::vector<int> fold = WedgeFolds(s.g, 6);
+  std::vector<int> count(6, 0);
+  for (int k : fold) count[k]++;
+  for (int k = 0; k < 6; ++k)  // a centred disc: six equal wedges, up to the pixel grid
+    EXPECT_NEAR(count[k], s.g.size() / 6.0, 0.08 * s.g.size() / 6.0) << "wedge " << k;
+  const auto f = FactorBasisImages(s.Y);
+  const auto held = FoldGrams(s.Y, fold, 6);
+  for (int c = 0; c < 3; ++c) {
+    Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(8, 8);
+    for (const auto& h : held) sum += h[c];
+    EXPECT_LT((sum - f[c].gram).norm(), 1e-9 * f[c].gram.norm());
+  }
+}
+
+TEST(LambdaChoice, CrossValidationScoreIsTheHeldOutErrorOfARefit) {
+  // The score from the fold spectra must equal refitting on the other wedges'
+  // pixels directly (dense, QR on the training rows) and measuring the wedge.
+  const Scene s = MakeScene(10, 2);
+  const int K = 4;
+  const std::vector<int> fold = WedgeFolds(s.g, K);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0, 0.05);
+  Eigen::MatrixXd w = Eigen::MatrixXd::Constant(10, 3, 0.1);
+  w(3, 0) = 0.7, w(6, 1) = 0.4;
+  Eigen::MatrixXd y = Render(s, w);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4}, {5, 6, 7, 8, 9}};
+  const auto f = FactorBasisImages(s.Y);
+  const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, K), members);
+  LambdaChoiceOptions opt;
+  opt.rule = "cv";
+  opt.grid = {0.001, 0.1, 1.0};
+  opt.max_condition = 1e300;
+  const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
+                                       FoldObservations(s.Y, y, fold, K), s.g.size(), opt);
+  for (size_t j = 0; j < members.size(); ++j)
+    for (size_t l = 0; l < opt.grid.size(); ++l) {
+      double want = 0;
+      for (int k = 0; k < K; ++k)
+        for (int c = 0; c < 3; ++c) {
+          std::vector<int> train, test;
+          for (size_t p = 0; p < fold.size(); ++p) (fold[p] == k ? test : train).push_back(static_cast<int>(p));
+          const Eigen::MatrixXd A = s.Y[c].cast<double>()(train, members[j]);
+          const Eigen::VectorXd b = y.col(c)(train);
+          const double cj = static_cast<double>(members[j].size());
+          const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
+          const Eigen::VectorXd wj = SolveRidge(A, b, opt.grid[l] * b.squaredNorm() / cj, prior);
+          want += (s.Y[c].cast<double>()(test, members[j]) * wj - y.col(c)(test)).squaredNorm();
+        }
+      EXPECT_NEAR(ch.score[j][l], want, 1e-7 * want) << "class " << j << " lambda " << opt.grid[l];
+    }
+}
+
+TEST(LambdaChoice, GcvScoreMatchesTheDenseHatMatrix) {
+  const Scene s = MakeScene(6, 3);
+  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(6, 3, 0.3));
+  y.array() += 0.02 * Eigen::ArrayXXd::Random(y.rows(), 3);
+  const auto f = FactorBasisImages(s.Y);
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5}};
+  LambdaChoiceOptions opt;
+  opt.rule = "gcv";
+  opt.grid = {0.01, 0.3};
+  opt.max_condition = 1e300;
+  const Observation obs = MakeObservation(f, s.Y, y);
+  const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), nullptr, obs, {}, s.g.size(), opt);
+  const double n = static_cast<double>(s.g.size());
+  for (size_t l = 0; l < opt.grid.size(); ++l) {
+    double want = 0;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::MatrixXd A = s.Y[c].cast<double>();
+      const double lj = opt.grid[l] * obs.norm2[c] / 6;
+      const Eigen::MatrixXd inv = (A.transpose() * A + lj * Eigen::MatrixXd::Identity(6, 6)).inverse();
+      const Eigen::VectorXd prior = Eigen::VectorXd::Constant(6, 1.0 / 6);
+      const Eigen::VectorXd wl = prior + inv * A.transpose() * (y.col(c) - A * prior);
+      const double rss = (A * wl - y.col(c)).squaredNorm();
+      const double dof = (A * inv * A.transpose()).trace();
+      want += n * rss / ((n - dof) * (n - dof));
+    }
+    EXPECT_NEAR(ch.score[0][l], want, 1e-8 * want) << "lambda " << opt.grid[l];
+  }
+}
+
+TEST(LambdaChoice, ExactDataPicksTheSmallestLambdaAndPriorPlusNoiseTheLargest) {
+  const Scene s = MakeScene(8, 4);
+  const std::vector<int> fold = WedgeFolds(s.g, 6);
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5, 6, 7}};
+  const auto f = FactorBasisImages(s.Y);
+  const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, 6), members);
+  LambdaChoiceOptions opt;
+  opt.grid = {1e-4, 1e-2, 1.0, 100.0};
+  opt.max_condition = 1e300;
+  for (const char* rule : {"cv", "gcv"}) {
+  SCOPED_TRACE(rule);
+  opt.rule = rule;
+  auto choose = [&](const Eigen::MatrixXd& y) {
+    return ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y), FoldObservations(s.Y, y, fold, 6),
+                        s.g.size(), opt);
+  };
+  // Exactly a combination far from the prior: any pull towards it costs.
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(8, 3);
+  w.row(2).setConstant(1.5);
+  w.row(5).setConstant(-0.4);
+  EXPECT_EQ(choose(Render(s, w)).lambda, 1e-4);
+  // The prior itself plus noise: the prior is the best answer.
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0, 0.3);
+  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(8, 3, 1.0 / 8));
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  const LambdaChoice noisy = choose(y);
+  EXPECT_EQ(noisy.lambda, 100.0);
+  // Held out, the prior's prediction misses by the noise alone: σ √(3 pixels) / ‖y‖.
+  const double want = 0.3 * std::sqrt(static_cast<double>(y.size())) / y.norm();
+  EXPECT_NEAR(noisy.predicted_error, want, 0.1 * want);
+  }
+}
+
+TEST(LambdaChoice, ConditionBoundRulesOutLambdasThatLetUnseenDirectionsSwing) {
+  Scene s = MakeScene(6, 5);
+  for (int c = 0; c < 3; ++c) s.Y[c].col(4) = s.Y[c].col(1) + 1e-5f * s.Y[c].col(2);  // almost collinear
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5}};
+  const auto f = FactorBasisImages(s.Y);
+  const std::vector<int> fold = WedgeFolds(s.g, 4);
+  const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, 4), members);
+  const Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(6, 3, 0.2));
+  LambdaChoiceOptions opt;
+  opt.grid = {0, 1e-6, 1e-2};
+  const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
+                                       FoldObservations(s.Y, y, fold, 4), s.g.size(), opt);
+  EXPECT_TRUE(std::isinf(ch.score[0][0]));
+  EXPECT_TRUE(std::isinf(ch.score[0][1]));
+  EXPECT_EQ(ch.lambda, 1e-2);
+}
+
+TEST(FitRecord, RoundTripsThroughJson) {
+  FitRecord r;
+  r.database = "MERL (NBRDF approximation)";
+  r.database_kind = "nbrdf";
+  r.grid = MerlGrid{90, 90, 180};
+  r.probe = "p.exr";
+  r.photo = "o.bsobs";
+  r.lambda_rule = "cv";
+  r.lambda = 0.03;
+  r.predicted_relit_error = 0.041;
+  r.chosen_class = 1;
+  r.relative_residual = 0.02;
+  r.classes = {{3, 1.5, 20, "normal"}, {2, 0.5, 1e9, "qr"}, {0, std::numeric_limits<double>::infinity(), 0, ""}};
+  r.lambda_grid = {0, 0.03};
+  r.lambda_scores = {{2, 1}, {0.5, 0.25}, {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}};
+  r.bases = {"a/R", "a/G", "a/B"};
+  r.weights = Eigen::MatrixXd::Random(3, 3);
+  r.seconds_factor = 0.2;
+  r.seconds_solve = 0.003;
+  const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
+  EXPECT_EQ(back.ToJson(), r.ToJson());
+  EXPECT_TRUE(back.weights == r.weights);
+  EXPECT_TRUE(std::isinf(back.classes[2].residual));
+  EXPECT_TRUE(std::isinf(back.lambda_scores[2][1]));
+  nlohmann::json bad = r.ToJson();
+  bad["chosen_class"] = 7;
+  EXPECT_THROW(FitRecord::FromJson(bad, "fit.json"), Error);
+}
+
+}  // namespace brdfshot
