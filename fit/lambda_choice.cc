@@ -40,17 +40,25 @@ std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR
 
 std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
                                           const std::vector<int>& fold_of_pixel, int folds) {
+  std::vector<std::vector<int>> rows(folds);
+  for (size_t p = 0; p < fold_of_pixel.size(); ++p) rows[fold_of_pixel[p]].push_back(static_cast<int>(p));
   std::vector<Observation> out(folds);
-  for (auto& o : out)
-    for (int c = 0; c < 3; ++c) o.z[c] = Eigen::VectorXd::Zero(Y[c].cols());
-  for (size_t p = 0; p < fold_of_pixel.size(); ++p) {
-    Observation& o = out[fold_of_pixel[p]];
+#pragma omp parallel for schedule(dynamic, 1) collapse(2)
+  for (int k = 0; k < folds; ++k)
     for (int c = 0; c < 3; ++c) {
-      o.z[c] += Y[c].row(p).transpose().cast<double>() * y(p, c);
-      o.norm2[c] += y(p, c) * y(p, c);
+      const Eigen::VectorXd yc = y.col(c);
+      out[k].z[c] = rows[k].empty() ? Eigen::VectorXd::Zero(Y[c].cols()) : ProjectRows(Y[c], yc, rows[k]);
+      out[k].norm2[c] = yc(rows[k]).squaredNorm();
     }
-  }
   return out;
+}
+
+Observation SumObservations(const std::vector<Observation>& parts) {
+  BRDFSHOT_CHECK(!parts.empty());
+  Observation all = parts[0];
+  for (size_t k = 1; k < parts.size(); ++k)
+    for (int c = 0; c < 3; ++c) all.z[c] += parts[k].z[c], all.norm2[c] += parts[k].norm2[c];
+  return all;
 }
 
 CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
@@ -59,11 +67,15 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
   cv.held_gram = std::move(held_gram);
   const int K = static_cast<int>(cv.held_gram.size());
   cv.train.resize(K);
+  cv.held_class.resize(K);
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < K; ++k) {
     std::array<ChannelFactor, 3> train;
     for (int c = 0; c < 3; ++c) train[c].gram = f[c].gram - cv.held_gram[k][c];
     cv.train[k] = FactorClasses(train, members);
+    cv.held_class[k].resize(members.size());
+    for (size_t j = 0; j < members.size(); ++j)
+      for (int c = 0; c < 3; ++c) cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
   }
   return cv;
 }
@@ -71,7 +83,7 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
 namespace {
 // Held-out squared error of class `cls` (fold spectrum) for every λ of `grid`,
 // added into `score`.
-void AddFoldScores(const ClassSpectrum& cls, const std::array<Eigen::MatrixXd, 3>& held_gram, const Observation& all,
+void AddFoldScores(const ClassSpectrum& cls, const std::array<Eigen::MatrixXd, 3>& held_class_gram, const Observation& all,
                    const Observation& held, const std::vector<double>& grid, std::vector<double>* score) {
   const std::vector<int>& J = cls.members;
   const Eigen::Index k = static_cast<Eigen::Index>(J.size());
@@ -90,7 +102,7 @@ void AddFoldScores(const ClassSpectrum& cls, const std::array<Eigen::MatrixXd, 3
       for (Eigen::Index i = 0; i < k; ++i) D(i, l) = e[i] + lj > floor ? b[i] / (e[i] + lj) : 0.0;
     }
     const Eigen::MatrixXd W = (cls.V[c] * D).colwise() + prior;  // k × L, all λ at once
-    const Eigen::MatrixXd GW = held_gram[c](J, J) * W;
+    const Eigen::MatrixXd GW = held_class_gram[c] * W;
     const Eigen::VectorXd zh = held.z[c](J);
     for (Eigen::Index l = 0; l < L; ++l)
       (*score)[l] += std::max(0.0, W.col(l).dot(GW.col(l)) - 2 * W.col(l).dot(zh) + held.norm2[c]);
@@ -165,9 +177,13 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
       out.score[j] = GcvScores(classes[j], obs, opt.gcv_pixel_fraction * static_cast<double>(pixels), opt.grid);
     if (cv) {
       BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty() && cv->train[0].size() == classes.size());
-      std::vector<double> s(opt.grid.size(), 0.0);
-      for (size_t k = 0; k < held.size(); ++k) AddFoldScores(cv->train[k][j], cv->held_gram[k], obs, held[k], opt.grid, &s);
-      cv_score[j] = s;
+      const int K = static_cast<int>(held.size());
+      std::vector<std::vector<double>> per_fold(K, std::vector<double>(opt.grid.size(), 0.0));
+#pragma omp parallel for schedule(dynamic, 1)
+      for (int k = 0; k < K; ++k) AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[k]);
+      cv_score[j].assign(opt.grid.size(), 0.0);
+      for (int k = 0; k < K; ++k)  // summed in fold order: the same score on any thread count
+        for (size_t l = 0; l < opt.grid.size(); ++l) cv_score[j][l] += per_fold[k][l];
     }
   }
   if (opt.rule == "cv") {

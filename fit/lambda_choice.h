@@ -41,14 +41,20 @@ std::vector<int> WedgeFolds(const PixelGeometry& g, int folds);
 std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR, 3>& Y,
                                                       const std::vector<int>& fold_of_pixel, int folds);
 
-// The observation restricted to each fold's pixels.
+// The observation restricted to each fold's pixels (their sum is the whole
+// observation: SumObservations).
 std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
                                           const std::vector<int>& fold_of_pixel, int folds);
+
+// Σ of per-fold observations: the observation of all pixels, without
+// projecting them again.
+Observation SumObservations(const std::vector<Observation>& parts);
 
 // Everything about the folds that does not depend on the photo.
 struct CvSystem {
   std::vector<std::array<Eigen::MatrixXd, 3>> held_gram;  // [fold][channel], n × n
   std::vector<std::vector<ClassSpectrum>> train;          // [fold][class]: spectra of G − G_fold
+  std::vector<std::vector<std::array<Eigen::MatrixXd, 3>>> held_class;  // [fold][class][channel]: G_fold,JJ
 };
 CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
                      const std::vector<std::vector<int>>& members);

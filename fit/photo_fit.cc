@@ -44,8 +44,8 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   out.seconds_factor = sw.Seconds();
 
   Stopwatch solve;
-  Observation obs = MakeObservation(f, basis.Y, y);
   const std::vector<Observation> held = cv ? FoldObservations(basis.Y, y, fold_of_pixel, folds) : std::vector<Observation>{};
+  Observation obs = cv ? SumObservations(held) : MakeObservation(f, basis.Y, y);
   out.choice = ChooseLambda(f, classes, cv ? &cv_system : nullptr, obs, held, basis.geometry.size(), opt.lambda);
   std::vector<double> lambda(classes.size(), out.choice.lambda);
   out.fit = SolveClasswise(f, classes, obs, lambda);

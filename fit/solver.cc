@@ -49,13 +49,33 @@ void AddQr(const std::array<MatrixXfR, 3>& Y, std::array<ChannelFactor, 3>* f) {
   }
 }
 
+Eigen::VectorXd ProjectRows(const MatrixXfR& Y, const Eigen::VectorXd& y, const std::vector<int>& rows) {
+  const Eigen::Index n = Y.cols(), count = rows.empty() ? Y.rows() : static_cast<Eigen::Index>(rows.size());
+  constexpr Eigen::Index kBlock = 256;
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> blk(kBlock, n);
+  Eigen::VectorXd yb(kBlock);
+  for (Eigen::Index r0 = 0; r0 < count; r0 += kBlock) {
+    const Eigen::Index m = std::min(kBlock, count - r0);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const Eigen::Index r = rows.empty() ? r0 + i : rows[r0 + i];
+      const float* src = Y.data() + r * n;  // Y is row-major: one contiguous row
+      double* dst = blk.data() + i * n;
+      for (Eigen::Index j = 0; j < n; ++j) dst[j] = src[j];
+      yb[i] = y[r];
+    }
+    z.noalias() += blk.topRows(m).transpose() * yb.head(m);
+  }
+  return z;
+}
+
 Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
                             const Eigen::MatrixXd& y) {
   Observation o;
   for (int c = 0; c < 3; ++c) {
     BRDFSHOT_CHECK(y.rows() == Y[c].rows());
     const Eigen::VectorXd yc = y.col(c);
-    o.z[c] = Y[c].cast<double>().transpose() * yc;
+    o.z[c] = ProjectRows(Y[c], yc);
     o.norm2[c] = yc.squaredNorm();
     if (f[c].has_qr()) {
       Eigen::VectorXd full = yc;

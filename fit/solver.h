@@ -56,6 +56,11 @@ struct Observation {                    // what a solve needs of an image
 // y: pixels × 3, the same pixels as Y's rows.
 Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
                             const Eigen::MatrixXd& y);
+// Y_cᵀ y over `rows` (all rows when empty), in double: float rows are widened
+// in blocks so neither the sum over thousands of pixels nor a copy of Y in
+// double costs precision or memory.
+Eigen::VectorXd ProjectRows(const MatrixXfR& Y, const Eigen::VectorXd& y, const std::vector<int>& rows = {});
+
 // The observation of basis columns `col[c]` themselves (y_c = Y_c e_col): exact
 // from the factors, as leave-one-out needs.
 Observation BasisObservation(const std::array<ChannelFactor, 3>& f, const std::array<int, 3>& col);

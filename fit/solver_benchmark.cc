@@ -1,0 +1,134 @@
+// The fit's solve and its photo-independent factorisation at the size of a
+// 128-pixel sphere (12.9 k pixels × 300 bases × 3 channels, classes of
+// 141 / 29 / 127 / 3 as the NBRDF database's), side by side with the
+// Householder-QR route the normal equations replace. Numbers in
+// docs/benchmarks.md; run: build/fit/fit_solver_benchmark.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "fit/lambda_choice.h"
+#include "fit/solver.h"
+#include "normals/sphere_geometry.h"
+
+namespace brdfshot {
+namespace {
+
+struct Problem {
+  PixelGeometry g;
+  std::array<MatrixXfR, 3> Y;
+  Eigen::MatrixXd y;
+  std::vector<std::vector<int>> members;
+};
+
+// Smooth random basis images (each a random quadratic in the normal, scales
+// spread over three decades as metals' and fabrics' are) and an observation
+// that is a noisy combination of them.
+const Problem& TheProblem() {
+  static const Problem p = [] {
+    Problem p;
+    p.g = OrthographicSphere(128, 80);
+    const int n = 300;
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int c = 0; c < 3; ++c) {
+      p.Y[c].resize(static_cast<Eigen::Index>(p.g.size()), n);
+      for (int j = 0; j < n; ++j) {
+        const double scale = std::pow(10.0, 3 * u(rng)), a = u(rng), bx = u(rng) - .5, by = u(rng) - .5, q = u(rng);
+        for (size_t i = 0; i < p.g.size(); ++i) {
+          const Vec3& m = p.g.normal[i];
+          p.Y[c](static_cast<Eigen::Index>(i), j) = static_cast<float>(scale * (a + bx * m.x + by * m.y + q * m.z * m.z));
+        }
+      }
+    }
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+    for (int j = 0; j < n; j += 7) w[j] = 1.0 / 43;
+    p.y.resize(static_cast<Eigen::Index>(p.g.size()), 3);
+    std::normal_distribution<double> noise(0, 0.01);
+    for (int c = 0; c < 3; ++c) {
+      p.y.col(c) = p.Y[c].cast<double>() * w;
+      for (Eigen::Index i = 0; i < p.y.rows(); ++i) p.y(i, c) *= 1 + noise(rng);
+    }
+    const int sizes[4] = {141, 29, 127, 3};
+    std::vector<int> order(n);
+    for (int i = 0; i < n; ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), rng);
+    for (int k = 0, at = 0; k < 4; at += sizes[k++]) p.members.emplace_back(order.begin() + at, order.begin() + at + sizes[k]);
+    return p;
+  }();
+  return p;
+}
+
+void BM_FactorGram(benchmark::State& state) {
+  const Problem& p = TheProblem();
+  for (auto _ : state) benchmark::DoNotOptimize(FactorBasisImages(p.Y, false));
+}
+BENCHMARK(BM_FactorGram)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_FactorGramAndClasses(benchmark::State& state) {
+  const Problem& p = TheProblem();
+  for (auto _ : state) {
+    const auto f = FactorBasisImages(p.Y, false);
+    benchmark::DoNotOptimize(FactorClasses(f, p.members));
+  }
+}
+BENCHMARK(BM_FactorGramAndClasses)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_FactorWithFolds(benchmark::State& state) {  // everything `fit` factors by default
+  const Problem& p = TheProblem();
+  const std::vector<int> fold = WedgeFolds(p.g, 6);
+  for (auto _ : state) {
+    const auto f = FactorBasisImages(p.Y, false);
+    benchmark::DoNotOptimize(FactorClasses(f, p.members));
+    benchmark::DoNotOptimize(FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members));
+  }
+}
+BENCHMARK(BM_FactorWithFolds)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_FactorQr(benchmark::State& state) {  // the route for ill-conditioned systems
+  const Problem& p = TheProblem();
+  for (auto _ : state) benchmark::DoNotOptimize(FactorBasisImages(p.Y, true));
+}
+BENCHMARK(BM_FactorQr)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SolveFixedLambda(benchmark::State& state) {
+  const Problem& p = TheProblem();
+  const auto f = FactorBasisImages(p.Y, false);
+  const auto classes = FactorClasses(f, p.members);
+  for (auto _ : state) benchmark::DoNotOptimize(SolveClasswise(f, classes, MakeObservation(f, p.Y, p.y), SolveOptions{0.5}));
+}
+BENCHMARK(BM_SolveFixedLambda)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: GCV pick, wedge prediction
+  const Problem& p = TheProblem();
+  const std::vector<int> fold = WedgeFolds(p.g, 6);
+  const auto f = FactorBasisImages(p.Y, false);
+  const auto classes = FactorClasses(f, p.members);
+  const CvSystem cv = FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members);
+  for (auto _ : state) {
+    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
+    const Observation obs = SumObservations(held);
+    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), LambdaChoiceOptions{});
+    benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda));
+  }
+}
+BENCHMARK(BM_SolveWithLambdaChoice)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SolveQrRoute(benchmark::State& state) {  // COD of [R_J; √λ_j I] per class and channel
+  const Problem& p = TheProblem();
+  const auto f = FactorBasisImages(p.Y, true);
+  for (auto _ : state) {
+    const Observation obs = MakeObservation(f, p.Y, p.y);
+    for (const auto& J : p.members)
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::VectorXd prior = Eigen::VectorXd::Constant(J.size(), 1.0 / J.size());
+        benchmark::DoNotOptimize(SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], 0.5 * obs.norm2[c] / J.size(), prior));
+      }
+  }
+}
+BENCHMARK(BM_SolveQrRoute)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace brdfshot
+
+BENCHMARK_MAIN();
