@@ -42,6 +42,7 @@ int EvalMain(int argc, char** argv) {
       ("lambda-rule", po::value(&loo.choice.rule)->default_value(loo.choice.rule), "rule of the auto method: cv, gcv or fixed")
       ("folds", po::value(&folds)->default_value(folds), "wedges for the auto method's cross-validation")
       ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
+      ("max-condition", po::value(&loo.choice.max_condition)->default_value(loo.choice.max_condition), "auto: λ values beyond this condition number of G_JJ + λ_j I are not candidates")
       ("lambda-grid", po::value(&grid_arg), "comma-separated λ values the auto method chooses among (default: 0 … 10)")
       ("classes", po::value(&loo.gmm.classes)->default_value(loo.gmm.classes), "Gaussians K")
       ("dims", po::value(&loo.gmm.dims)->default_value(loo.gmm.dims), "SVD coordinates N");

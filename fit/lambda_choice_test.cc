@@ -172,6 +172,7 @@ TEST(LambdaChoice, ConditionBoundRulesOutLambdasThatLetUnseenDirectionsSwing) {
   const Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(6, 3, 0.2));
   LambdaChoiceOptions opt;
   opt.grid = {0, 1e-6, 1e-2};
+  opt.max_condition = 1e6;
   const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
                                        FoldObservations(s.Y, y, fold, 4), s.g.size(), opt);
   EXPECT_TRUE(std::isinf(ch.score[0][0]));
