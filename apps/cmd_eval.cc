@@ -11,6 +11,7 @@
 #include "apps/scene_setup.h"
 #include "fit/lambda_choice.h"
 #include "fit/loo_eval.h"
+#include "fit/ood_eval.h"
 #include "fit/plots.h"
 #include "fit/transport.h"
 #include "util/atomic_file.h"
@@ -22,14 +23,15 @@ namespace brdfshot {
 namespace po = boost::program_options;
 
 namespace {
-const char* kMethods[] = {"auto", "ours", "paper", "lsq", "oracle"};
+const char* kLooMethods[] = {"auto", "ours", "paper", "lsq", "oracle"};
+const char* kOodMethods[] = {"auto", "ours", "paper", "lsq", "relit-oracle"};
 }  // namespace
 
 int EvalMain(int argc, char** argv) {
   DatabaseArgs db;
   QualityArgs quality;
   LooOptions loo;
-  std::string probes_arg, out = "eval_out", grid_arg;
+  std::string probes_arg, out = "eval_out", grid_arg, targets_kind, targets_data;
   int sphere = 64, folds = 6;
   double margin = 80;
   po::options_description desc("options");
@@ -44,6 +46,9 @@ int EvalMain(int argc, char** argv) {
       ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
       ("max-condition", po::value(&loo.choice.max_condition)->default_value(loo.choice.max_condition), "auto: λ values beyond this condition number of G_JJ + λ_j I are not candidates")
       ("lambda-grid", po::value(&grid_arg), "comma-separated λ values the auto method chooses among (default: 0 … 10)")
+      ("targets", po::value(&targets_kind), "evaluate on another database's materials instead of leaving each out "
+       "(e.g. standin: the analytic stand-ins, none of them in MERL), fitted with all of --db's bases")
+      ("targets-data", po::value(&targets_data), "data folder of --targets (default: --data)")
       ("classes", po::value(&loo.gmm.classes)->default_value(loo.gmm.classes), "Gaussians K")
       ("dims", po::value(&loo.gmm.dims)->default_value(loo.gmm.dims), "SVD coordinates N");
   db.Add(desc);
@@ -64,7 +69,18 @@ int EvalMain(int argc, char** argv) {
   in.gram_cos = std::move(grams.gram_cos);
   const double t_gram = sw.Seconds();
 
+  BasisDatabase tdb;
+  if (!targets_kind.empty()) {
+    DatabaseOptions topt = db.ToOptions(true);
+    topt.kind = targets_kind;
+    topt.data_root = targets_data.empty() ? db.data : targets_data;
+    topt.grid = base.grid;
+    topt.only.clear(), topt.exclude.clear(), topt.max_materials = 0;
+    tdb = LoadDatabase(topt);
+  }
+  std::vector<TargetScene> target_scenes;
   const PixelGeometry geometry = OrthographicSphere(sphere, margin);
+  const std::vector<int> fold_of_pixel = WedgeFolds(geometry, folds);
   std::vector<double> t_basis;
   for (const std::string& path : probe_paths) {
     Stopwatch ps;
@@ -74,7 +90,8 @@ int EvalMain(int argc, char** argv) {
     s.probe = probe.name();
     const std::array<MatrixXfR, 3> Y = t.Apply(base.B);
     s.f = FactorBasisImages(Y, true);
-    s.fold_gram = FoldGrams(Y, WedgeFolds(geometry, folds), folds);
+    s.fold_gram = FoldGrams(Y, fold_of_pixel, folds);
+    if (!targets_kind.empty()) target_scenes.push_back(MakeTargetScene(s.f, Y, t.Apply(tdb.B), fold_of_pixel, folds));
     s.pixels = geometry.size();
     in.scenes.push_back(std::move(s));
     t_basis.push_back(ps.Seconds());
@@ -84,17 +101,33 @@ int EvalMain(int argc, char** argv) {
 
   loo.progress = true;
   Stopwatch lsw;
-  const LooResult r = RunLeaveOneOut(in, loo);
+  const bool ood = !targets_kind.empty();
+  const LooResult r = ood ? RunOutOfDatabase(in, target_scenes, tdb.materials, loo) : RunLeaveOneOut(in, loo);
   const double t_loo = lsw.Seconds();
+  const char* const* kMethods = ood ? kOodMethods : kLooMethods;
+  const char* floor = kMethods[4];
+  const std::vector<std::string>& materials = ood ? tdb.materials : base.materials;
 
-  // Class of each material in the full model (majority of its channels), for the per-class table.
+  // Groups for the per-group table: a target's family, or a database
+  // material's class in the full model (majority of its channels).
   const ClassModel full = BuildClassModel(in.gram, loo.gmm);
   std::map<std::string, int> material_class;
-  for (int m = 0; m < base.num_materials(); ++m) {
-    std::map<int, int> votes;
-    for (int c = 0; c < 3; ++c) votes[full.label[3 * m + c]]++;
-    material_class[base.materials[m]] =
-        std::max_element(votes.begin(), votes.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+  std::vector<std::string> group_names;
+  if (ood) {
+    for (size_t m = 0; m < materials.size(); ++m) {
+      const std::string fam = m < tdb.families.size() ? tdb.families[m] : "all";
+      auto it = std::find(group_names.begin(), group_names.end(), fam);
+      if (it == group_names.end()) group_names.push_back(fam), it = group_names.end() - 1;
+      material_class[materials[m]] = static_cast<int>(it - group_names.begin());
+    }
+  } else {
+    for (int k = 0; k < full.classes(); ++k) group_names.push_back("class " + std::to_string(k));
+    for (int m = 0; m < base.num_materials(); ++m) {
+      std::map<int, int> votes;
+      for (int c = 0; c < 3; ++c) votes[full.label[3 * m + c]]++;
+      material_class[base.materials[m]] =
+          std::max_element(votes.begin(), votes.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+    }
   }
 
   // CSV.
@@ -120,10 +153,10 @@ int EvalMain(int argc, char** argv) {
     per_material[row.method][row.material] += row.relit_mean;
     if (row.method == "auto") predicted.push_back(row.predicted), actual.push_back(row.relit_mean), lambda_count[row.lambda]++;
   }
-  const int M = base.num_materials();
+  const int M = static_cast<int>(materials.size());
   auto count_materials = [&](auto&& pred) {
     int n = 0;
-    for (const auto& m : base.materials) n += pred(m);
+    for (const auto& m : materials) n += pred(m);
     return n;
   };
   const int beats_lsq = count_materials([&](const std::string& m) { return per_material["auto"][m] < per_material["lsq"][m]; });
@@ -132,17 +165,21 @@ int EvalMain(int argc, char** argv) {
     return per_material["auto"][m] <= 1.05 * std::min(per_material["lsq"][m], per_material["ours"][m]);
   });
   std::ostringstream md;
-  md << "# Leave-one-out evaluation — " << base.label << "\n\n";
+  md << (ood ? "# Out-of-database evaluation — " + tdb.label + " fitted with " : std::string("# Leave-one-out evaluation — "))
+     << base.label << "\n\n";
   md << "Settings: database **" << base.label << "** (" << M << " materials, grid " << base.grid.n_th << "x"
      << base.grid.n_td << "x" << base.grid.n_pd << "), probes:";
   for (const auto& s : in.scenes) md << " " << s.probe;
   md << "; sphere " << sphere << " px (" << geometry.size() << " pixels, margin " << margin << "°); quality "
      << quality.q.Describe() << "; auto: λ by " << loo.choice.rule << " over " << folds << " wedges; ours and paper: λ = "
      << loo.lambda << "; N = " << loo.gmm.dims << ", K = " << loo.gmm.classes
-     << ". Each row: fit under probe A, scored relit under the other probes.\n\n";
+     << ". Each row: fit under probe A, scored relit under the other probes"
+     << (ood ? "; targets: " + std::to_string(M) + " materials of " + tdb.label + ", none of them among the bases" : std::string())
+     << ".\n\n";
   md << "| method (" << base.label << ") | median relit error | median BRDF error (cos-weighted) | median in-sample residual |\n|---|---|---|---|\n";
   char buf[512];
-  for (const char* m : kMethods) {
+  for (int i = 0; i < 5; ++i) {
+    const char* m = kMethods[i];
     std::snprintf(buf, sizeof buf, "| %s | %.4f | %.4f | %.4f |\n", m, Median(relit[m]), Median(brdf[m]), Median(insample[m]));
     md << buf;
   }
@@ -156,25 +193,27 @@ int EvalMain(int argc, char** argv) {
   md << buf;
   for (const auto& [l, n] : lambda_count) md << " " << l << " (" << n << ")";
   md << "\n\n";
-  md << "Per class of the full-database model (class sizes " << ClassSizes(full) << "), median relit error:\n\n";
-  md << "| class (" << base.label << ") | materials | auto | ours | paper | lsq | oracle |\n|---|---|---|---|---|---|---|\n";
+  md << (ood ? std::string("Per family of the targets") : "Per class of the full-database model (class sizes " + ClassSizes(full) + ")")
+     << ", median relit error:\n\n";
+  md << "| group (" << base.label << ") | materials | auto | ours | paper | lsq | " << floor
+     << " |\n|---|---|---|---|---|---|---|\n";
   std::vector<std::vector<double>> bars;
   std::vector<std::string> groups;
-  for (int k = 0; k < full.classes(); ++k) {
+  for (int k = 0; k < static_cast<int>(group_names.size()); ++k) {
     std::map<std::string, std::vector<double>> v;
     int count = 0;
-    for (const auto& m : base.materials) count += material_class[m] == k;
+    for (const auto& m : materials) count += material_class[m] == k;
     for (const LooRow& row : r.rows)
       if (material_class[row.material] == k) v[row.method].push_back(row.relit_mean);
-    std::snprintf(buf, sizeof buf, "| %d | %d | %.4f | %.4f | %.4f | %.4f | %.4f |\n", k, count, Median(v["auto"]),
-                  Median(v["ours"]), Median(v["paper"]), Median(v["lsq"]), Median(v["oracle"]));
+    std::snprintf(buf, sizeof buf, "| %s | %d | %.4f | %.4f | %.4f | %.4f | %.4f |\n", group_names[k].c_str(), count,
+                  Median(v["auto"]), Median(v["ours"]), Median(v["paper"]), Median(v["lsq"]), Median(v[floor]));
     md << buf;
-    bars.push_back({Median(v["auto"]), Median(v["ours"]), Median(v["paper"]), Median(v["lsq"]), Median(v["oracle"])});
-    groups.push_back("class " + std::to_string(k) + " (" + std::to_string(count) + ")");
+    bars.push_back({Median(v["auto"]), Median(v["ours"]), Median(v["paper"]), Median(v["lsq"]), Median(v[floor])});
+    groups.push_back(group_names[k] + " (" + std::to_string(count) + ")");
   }
   std::snprintf(buf, sizeof buf,
                 "\nTime: database %.1f s, Gram matrices %.1f s, basis images %.1f s for %zu probes, "
-                "leave-one-out %.1f s (%d materials x %zu probes, 5 methods; %.1f ms per fit of all "
+                "fits %.1f s (%d materials x %zu probes, 5 methods; %.1f ms per fit of all "
                 "methods, thread time). Total %.1f s.\n",
                 t_db, t_gram, [&] { double s = 0; for (double t : t_basis) s += t; return s; }(),
                 probe_paths.size(), t_loo, M, probe_paths.size(), 1000 * r.seconds_solve / (M * probe_paths.size()),
@@ -184,18 +223,19 @@ int EvalMain(int argc, char** argv) {
   WriteFileAtomic(out + "/eval.md", [&](std::ostream& o) { o << report; });
 
   std::vector<std::vector<double>> series;
-  for (const char* m : kMethods) {
+  for (int i = 0; i < 5; ++i) {
     std::vector<double> s;
-    for (const auto& mat : base.materials) s.push_back(per_material[m][mat] / probe_paths.size());
+    for (const auto& mat : materials) s.push_back(per_material[kMethods[i]][mat] / probe_paths.size());
     series.push_back(s);
   }
   // Sort by the oracle (the floor), so the gap to it reads directly.
   std::swap(series[0], series[4]);
   WritePng(out + "/relit_per_material.png",
-           LinePlotLog(series, {"oracle", "ours", "paper", "lsq", "auto"},
-                       "LOO relit error per material (mean over probes), " + base.label, "materials, sorted by oracle error"));
+           LinePlotLog(series, {floor, "ours", "paper", "lsq", "auto"},
+                       "relit error per material (mean over probes), " + base.label,
+                       std::string("materials, sorted by ") + floor + " error"));
   WritePng(out + "/relit_per_class.png",
-           BarPlot(bars, groups, {"auto", "ours", "paper", "lsq", "oracle"}, "Median LOO relit error per class, " + base.label));
+           BarPlot(bars, groups, {"auto", "ours", "paper", "lsq", floor}, "Median relit error per group, " + base.label));
   std::printf("%s\nwrote %s, %s/eval.md, %s/relit_per_material.png, %s/relit_per_class.png\n", report.c_str(),
               csv.c_str(), out.c_str(), out.c_str(), out.c_str());
   return 0;

@@ -32,6 +32,8 @@ int FitMain(int argc, char** argv) {
        "how the regularisation weight is chosen: cv (held-out wedges of the sphere), gcv, or fixed (--lambda)")
       ("lambda", po::value(&lambda), "fix the regularisation weight (the paper's: 0.5); implies --lambda-rule fixed")
       ("folds", po::value(&fo.folds)->default_value(fo.folds), "wedges for --lambda-rule cv")
+      ("max-condition", po::value(&fo.lambda.max_condition)->default_value(fo.lambda.max_condition),
+       "a λ is a candidate only while the condition number of G_JJ + λ_j I stays below this")
       ("lambda-grid", po::value(&grid), "comma-separated λ values the rule chooses among (default: 0 … 10)")
       ("out,o", po::value(&out)->default_value(out), "output folder")
       ("preview-probes", po::value(&previews), "probes to relight the result under (default: two of <data>/envmaps)");
@@ -47,6 +49,7 @@ int FitMain(int argc, char** argv) {
     throw Error("unknown --lambda-rule '" + fo.lambda.rule + "': cv, gcv or fixed");
   if (fo.lambda.rule == "fixed" && lambda < 0) fo.lambda.fixed = 0.5;
   if (fo.folds < 2) throw Error("--folds must be at least 2");
+  if (!(fo.lambda.max_condition >= 1)) throw Error("--max-condition must be at least 1");
   if (!grid.empty()) fo.lambda.grid = ParseLambdaGrid(grid);
 
   const BasisImages basis = BasisImages::Read(basis_path);

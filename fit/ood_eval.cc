@@ -1,0 +1,176 @@
+#include "fit/ood_eval.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "util/check.h"
+#include "util/progress.h"
+
+namespace brdfshot {
+
+TargetScene MakeTargetScene(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
+                            const std::array<MatrixXfR, 3>& Yt, const std::vector<int>& fold_of_pixel, int folds) {
+  const Eigen::Index T = Yt[0].cols() / 3, n = Y[0].cols();
+  std::vector<std::vector<int>> rows(folds);
+  for (size_t p = 0; p < fold_of_pixel.size(); ++p) rows[fold_of_pixel[p]].push_back(static_cast<int>(p));
+  TargetScene s;
+  s.fold_cross.resize(folds);
+  s.fold_self.resize(folds);
+  for (int c = 0; c < 3; ++c) {
+    BRDFSHOT_CHECK(f[c].has_qr());
+    s.cross[c].resize(n, T);
+    s.cross_qr[c].resize(n, T);
+    s.self[c].resize(T);
+    for (int k = 0; k < folds; ++k) s.fold_cross[k][c].resize(n, T), s.fold_self[k][c].resize(T);
+#pragma omp parallel for schedule(dynamic, 4)
+    for (Eigen::Index t = 0; t < T; ++t) {
+      const Eigen::VectorXd y = Yt[c].col(3 * t + c).cast<double>();
+      s.self[c][t] = y.squaredNorm();
+      Eigen::VectorXd parts = Eigen::VectorXd::Zero(n);
+      for (int k = 0; k < folds; ++k) {
+        const Eigen::VectorXd zk = rows[k].empty() ? Eigen::VectorXd::Zero(n) : ProjectRows(Y[c], y, rows[k]);
+        s.fold_cross[k][c].col(t) = zk;
+        s.fold_self[k][c][t] = y(rows[k]).squaredNorm();
+        parts += zk;
+      }
+      s.cross[c].col(t) = parts;
+      Eigen::VectorXd full = y;
+      full.applyOnTheLeft(f[c].qr->householderQ().adjoint());
+      s.cross_qr[c].col(t) = Eigen::VectorXd::Zero(n);
+      const Eigen::Index k = std::min<Eigen::Index>(n, full.size());
+      s.cross_qr[c].col(t).head(k) = full.head(k);
+    }
+  }
+  return s;
+}
+
+namespace {
+std::vector<std::vector<int>> Members(const ClassModel& model) {
+  std::vector<std::vector<int>> out(model.classes());
+  for (size_t i = 0; i < model.label.size(); ++i) out[model.label[i]].push_back(static_cast<int>(i));
+  return out;
+}
+
+// Relit error of w against target t under scene b.
+double TargetError(const ChannelFactor* f, const TargetScene& s, const Eigen::MatrixXd& w, int t) {
+  double num = 0, den = 0;
+  for (int c = 0; c < 3; ++c) {
+    num += w.col(c).dot(f[c].gram * w.col(c)) - 2 * w.col(c).dot(s.cross[c].col(t)) + s.self[c][t];
+    den += s.self[c][t];
+  }
+  return den > 0 ? std::sqrt(std::max(0.0, num) / den) : 0.0;
+}
+
+// Pseudo-inverse of a symmetric matrix through its eigendecomposition,
+// eigenvalues below 1e-12 of the largest dropped.
+Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& g) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(g);
+  const Eigen::VectorXd ev = eig.eigenvalues();
+  const double cut = 1e-12 * ev.maxCoeff();
+  Eigen::VectorXd inv = ev;
+  for (Eigen::Index i = 0; i < ev.size(); ++i) inv[i] = ev[i] > cut ? 1.0 / ev[i] : 0.0;
+  return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+}
+}  // namespace
+
+LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene>& scenes,
+                           const std::vector<std::string>& targets, const LooOptions& opt) {
+  const int S = static_cast<int>(bases.scenes.size()), T = static_cast<int>(targets.size());
+  const int n = static_cast<int>(bases.gram.rows());
+  BRDFSHOT_CHECK(static_cast<int>(scenes.size()) == S && S > 1);
+  Stopwatch sw;
+  GmmOptions ours_opt = opt.gmm, paper_opt = opt.gmm;
+  ours_opt.paper_mstep = false;
+  paper_opt.paper_mstep = true;
+  const auto ours_members = Members(BuildClassModel(bases.gram, ours_opt));
+  const auto paper_members = Members(BuildClassModel(bases.gram, paper_opt));
+  std::vector<int> all(n);
+  for (int i = 0; i < n; ++i) all[i] = i;
+  const auto auto_members = CandidateMembers(ours_members, all, opt.choice);
+  // Per scene: what does not depend on the target.
+  std::vector<std::vector<ClassSpectrum>> ours_classes(S), paper_classes(S), auto_classes(S);
+  std::vector<CvSystem> cv(S);
+  std::vector<std::array<Eigen::MatrixXd, 3>> oracle_inverse(S);  // (Σ_{b≠a} G_b)⁺ per channel
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int a = 0; a < S; ++a) {
+    const auto& fa = bases.scenes[a].f;
+    ours_classes[a] = FactorClasses(fa, ours_members);
+    paper_classes[a] = FactorClasses(fa, paper_members);
+    auto_classes[a] = auto_members.size() == ours_members.size() ? ours_classes[a] : FactorClasses(fa, auto_members);
+    cv[a] = FactorFolds(fa, bases.scenes[a].fold_gram, auto_members);
+    for (int c = 0; c < 3; ++c) {
+      Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(n, n);
+      for (int b = 0; b < S; ++b)
+        if (b != a) sum += bases.scenes[b].f[c].gram;
+      oracle_inverse[a][c] = PseudoInverse(sum);
+    }
+  }
+  LooResult r;
+  r.seconds_cluster = sw.Seconds();
+
+  std::vector<std::vector<LooRow>> per_target(T);
+  Progress progress("out of database", T, opt.progress);
+  SolveOptions so;
+  so.lambda = opt.lambda;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int t = 0; t < T; ++t) {
+    for (int a = 0; a < S; ++a) {
+      const auto& fa = bases.scenes[a].f;
+      const TargetScene& ta = scenes[a];
+      Observation obs;
+      for (int c = 0; c < 3; ++c) {
+        obs.z[c] = ta.cross[c].col(t);
+        obs.z_qr[c] = ta.cross_qr[c].col(t);
+        obs.norm2[c] = ta.self[c][t];
+      }
+      const int K = static_cast<int>(ta.fold_cross.size());
+      std::vector<Observation> held(K);
+      for (int k = 0; k < K; ++k)
+        for (int c = 0; c < 3; ++c) held[k].z[c] = ta.fold_cross[k][c].col(t), held[k].norm2[c] = ta.fold_self[k][c][t];
+      const LambdaChoice choice = ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels, opt.choice);
+      const ClasswiseFit ours = SolveClasswise(fa, ours_classes[a], obs, so);
+      const ClasswiseFit paper = SolveClasswise(fa, paper_classes[a], obs, so);
+      Eigen::MatrixXd oracle(n, 3);
+      for (int c = 0; c < 3; ++c) {
+        Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+        for (int b = 0; b < S; ++b)
+          if (b != a) rhs += scenes[b].cross[c].col(t);
+        oracle.col(c) = oracle_inverse[a][c] * rhs;
+      }
+      struct Method {
+        const char* name;
+        Eigen::MatrixXd w;
+        int cls;
+      };
+      const Method methods[] = {{"auto", SolveClass(fa, auto_classes[a][choice.chosen_class], obs, choice.lambda).weights, choice.chosen_class},
+                                {"ours", ours.weights(), ours.chosen},
+                                {"paper", paper.weights(), paper.chosen},
+                                {"lsq", SolveLeastSquares(fa, obs, all), -1},
+                                {"relit-oracle", oracle, -1}};
+      for (const Method& m : methods) {
+        LooRow row;
+        row.material = targets[t];
+        row.probe = bases.scenes[a].probe;
+        row.method = m.name;
+        row.chosen_class = m.cls;
+        if (std::string(m.name) == "auto") row.lambda = choice.lambda, row.predicted = choice.predicted_error;
+        std::vector<double> relit;
+        for (int b = 0; b < S; ++b)
+          if (b != a) relit.push_back(TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t));
+        double sum = 0;
+        for (double e : relit) sum += e;
+        row.relit_mean = sum / relit.size();
+        row.relit_median = Median(relit);
+        row.brdf = std::nan("");
+        row.insample = TargetError(fa.data(), ta, m.w, t);
+        per_target[t].push_back(row);
+      }
+    }
+    progress.Step();
+  }
+  for (auto& rows : per_target) r.rows.insert(r.rows.end(), rows.begin(), rows.end());
+  r.seconds_solve = sw.Seconds() - r.seconds_cluster;
+  return r;
+}
+
+}  // namespace brdfshot

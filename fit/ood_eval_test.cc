@@ -1,0 +1,83 @@
+#include "fit/ood_eval.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "normals/sphere_geometry.h"
+
+namespace brdfshot {
+
+namespace {
+// Random images of n bases on a 24-px sphere: a quadratic in the normal plus a
+// little per-pixel texture, so every scene's images have full column rank.
+std::array<MatrixXfR, 3> Images(const PixelGeometry& g, int n, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0.1, 1.0);
+  std::array<MatrixXfR, 3> Y;
+  for (int c = 0; c < 3; ++c) {
+    Y[c].resize(static_cast<Eigen::Index>(g.size()), n);
+    for (int j = 0; j < n; ++j) {
+      const double a = u(rng), bx = u(rng) - .5, by = u(rng) - .5, q = u(rng);
+      for (size_t p = 0; p < g.size(); ++p)
+        Y[c](static_cast<Eigen::Index>(p), j) = static_cast<float>(
+            a + bx * g.normal[p].x + by * g.normal[p].y + q * g.normal[p].z * g.normal[p].x + 0.05 * u(rng));
+    }
+  }
+  return Y;
+}
+}  // namespace
+
+TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
+  const PixelGeometry g = OrthographicSphere(24, 80);
+  std::mt19937 rng(3);
+  const int n = 12, S = 3, T = 2, K = 4;
+  const std::vector<int> fold = WedgeFolds(g, K);
+  // Two targets, each exactly a combination of the bases (the same weights under every probe).
+  std::normal_distribution<double> gauss;
+  std::vector<Eigen::MatrixXd> W(T, Eigen::MatrixXd(n, 3));
+  for (auto& w : W)
+    for (Eigen::Index i = 0; i < w.size(); ++i) w(i) = 0.2 * gauss(rng);
+  LooInputs bases;
+  std::vector<TargetScene> scenes;
+  for (int s = 0; s < S; ++s) {
+    const auto Y = Images(g, n, rng);
+    std::array<MatrixXfR, 3> Yt;
+    for (int c = 0; c < 3; ++c) {
+      Yt[c] = MatrixXfR::Zero(Y[c].rows(), 3 * T);
+      for (int t = 0; t < T; ++t) Yt[c].col(3 * t + c) = (Y[c].cast<double>() * W[t].col(c)).cast<float>();
+    }
+    SceneFactors sf;
+    sf.probe = "p" + std::to_string(s);
+    sf.f = FactorBasisImages(Y, true);
+    sf.fold_gram = FoldGrams(Y, fold, K);
+    sf.pixels = g.size();
+    scenes.push_back(MakeTargetScene(sf.f, Y, Yt, fold, K));
+    for (int c = 0; c < 3; ++c)  // against a dense product
+      for (int t = 0; t < T; ++t) {
+        const Eigen::VectorXd want = Y[c].cast<double>().transpose() * Yt[c].col(3 * t + c).cast<double>();
+        EXPECT_LT((scenes.back().cross[c].col(t) - want).norm(), 1e-9 * want.norm());
+        double parts = 0;
+        for (int k = 0; k < K; ++k) parts += scenes.back().fold_self[k][c][t];
+        EXPECT_NEAR(parts, scenes.back().self[c][t], 1e-9 * parts);
+      }
+    bases.scenes.push_back(std::move(sf));
+  }
+  bases.materials = {"a", "b", "c", "d"};
+  bases.gram = bases.scenes[0].f[1].gram;
+  LooOptions opt;
+  opt.gmm.classes = 2;
+  opt.gmm.dims = 2;
+  const LooResult r = RunOutOfDatabase(bases, scenes, {"t0", "t1"}, opt);
+  ASSERT_EQ(r.rows.size(), static_cast<size_t>(T * S * 5));
+  for (const LooRow& row : r.rows) {
+    EXPECT_TRUE(std::isfinite(row.relit_mean)) << row.method;
+    if (row.method == "lsq" || row.method == "relit-oracle") {
+      EXPECT_LT(row.relit_mean, 1e-5) << row.method;
+    }
+    if (row.method == "auto") {
+      EXPECT_GE(row.predicted, 0) << "auto predicts its error";
+    }
+  }
+}
+
+}  // namespace brdfshot
