@@ -107,6 +107,17 @@ std::vector<std::string> Names(const nlohmann::json& header, const char* key) {
   return header.contains(key) ? header[key].get<std::vector<std::string>>() : std::vector<std::string>{};
 }
 
+// The names of materials `keep` (and their families, when the cache has them).
+void SelectNames(const nlohmann::json& header, const std::vector<int>& keep, const std::string& path,
+                 std::vector<std::string>* materials, std::vector<std::string>* families) {
+  const std::vector<std::string> names = Names(header, "materials"), fams = Names(header, "families");
+  for (int m : keep) {
+    if (m < 0 || static_cast<size_t>(m) >= names.size()) throw FileError(path, "lists fewer materials than its source");
+    materials->push_back(names[m]);
+    if (!fams.empty()) families->push_back(fams.at(m));
+  }
+}
+
 std::vector<int> Columns(const std::vector<int>& keep) {
   std::vector<int> cols;
   for (int m : keep)
@@ -191,12 +202,7 @@ BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId&
   db.kind = id.kind;
   db.grid = id.grid;
   db.label = l.header.value("label", "");
-  const std::vector<std::string> names = Names(l.header, "materials"), families = Names(l.header, "families");
-  for (int m : keep) {
-    BRDFSHOT_CHECK(m >= 0 && static_cast<size_t>(m) < names.size());
-    db.materials.push_back(names[m]);
-    if (!families.empty()) db.families.push_back(families.at(m));
-  }
+  SelectNames(l.header, keep, path, &db.materials, &db.families);
   const std::vector<int> cols = Columns(keep);
   const bool all = cols.size() == l.cols;
   db.B.resize(static_cast<Eigen::Index>(l.rows), static_cast<Eigen::Index>(cols.size()));
@@ -245,11 +251,7 @@ DatabaseGrams ReadDatabaseCacheGrams(const std::string& path, const CachedDataba
   g.kind = id.kind;
   g.grid = id.grid;
   g.label = l.header.value("label", "");
-  const std::vector<std::string> names = Names(l.header, "materials"), families = Names(l.header, "families");
-  for (int m : keep) {
-    g.materials.push_back(names.at(m));
-    if (!families.empty()) g.families.push_back(families.at(m));
-  }
+  SelectNames(l.header, keep, path, &g.materials, &g.families);
   const std::vector<int> cols = Columns(keep);
   const Eigen::Index n = static_cast<Eigen::Index>(l.cols);
   g.gram = Eigen::Map<const Eigen::MatrixXd>(grams.data(), n, n)(cols, cols);

@@ -113,10 +113,6 @@ TEST(Solver, FewerPixelsThanBasesStillSolves) {
   EXPECT_LT(std::sqrt(fit.classes[0].residual), 0.5 * Render(Y, w).norm());
 }
 
-}  // namespace brdfshot
-
-namespace brdfshot {
-
 TEST(Solver, NormalEquationsAndQrAgreeOnWellConditionedSystems) {
   const auto Y = Images(500, 30, 11);
   const auto f = FactorBasisImages(Y, true);
