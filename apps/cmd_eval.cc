@@ -1,6 +1,7 @@
 // brdfshot eval: leave-one-out over every material of the database and every
 // probe, against the baselines; CSV + markdown + plots, settings recorded.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -23,6 +24,11 @@ namespace brdfshot {
 namespace po = boost::program_options;
 
 namespace {
+std::string Fixed4(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", v);
+  return buf;
+}
 const char* kLooMethods[] = {"auto", "ours", "paper", "lsq", "oracle"};
 const char* kOodMethods[] = {"auto", "ours", "paper", "lsq", "relit-oracle"};
 }  // namespace
@@ -180,7 +186,9 @@ int EvalMain(int argc, char** argv) {
   char buf[512];
   for (int i = 0; i < 5; ++i) {
     const char* m = kMethods[i];
-    std::snprintf(buf, sizeof buf, "| %s | %.4f | %.4f | %.4f |\n", m, Median(relit[m]), Median(brdf[m]), Median(insample[m]));
+    const double b = Median(brdf[m]);
+    std::snprintf(buf, sizeof buf, "| %s | %.4f | %s | %.4f |\n", m, Median(relit[m]),
+                  std::isnan(b) ? "—" : Fixed4(b).c_str(), Median(insample[m]));
     md << buf;
   }
   std::snprintf(buf, sizeof buf,
