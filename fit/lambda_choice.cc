@@ -160,7 +160,15 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     out.lambda = opt.fixed;
     out.grid = {opt.fixed};
     for (const auto& s : fit.classes) out.score.push_back({s.residual});
-    out.predicted_error = std::sqrt(fit.classes[fit.chosen].residual / std::max(total, 1e-300));
+    double predicted = fit.classes[fit.chosen].residual;  // in-sample, when no folds are given
+    if (cv) {
+      BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty());
+      std::vector<double> s(1, 0.0);
+      for (size_t k = 0; k < held.size(); ++k)
+        AddFoldScores(cv->train[k][fit.chosen], cv->held_class[k][fit.chosen], obs, held[k], out.grid, &s);
+      predicted = s[0];
+    }
+    out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
     return out;
   }
   BRDFSHOT_CHECK(opt.rule == "cv" || opt.rule == "gcv", "unknown λ rule " << opt.rule);

@@ -32,28 +32,22 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   std::vector<std::vector<int>> members(model.classes());
   for (size_t i = 0; i < model.label.size(); ++i) members[model.label[i]].push_back(static_cast<int>(i));
   const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
-  // The folds serve the choice (rule cv) and the predicted error (any rule).
-  const bool cv = opt.lambda.rule != "fixed";
+  // The folds serve the choice (rule cv) and the predicted error (every rule).
   const int folds = std::max(2, opt.folds);
-  std::vector<int> fold_of_pixel;
-  CvSystem cv_system;
-  if (cv) {
-    fold_of_pixel = WedgeFolds(basis.geometry, folds);
-    cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
-  }
+  const std::vector<int> fold_of_pixel = WedgeFolds(basis.geometry, folds);
+  const CvSystem cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
   out.seconds_factor = sw.Seconds();
 
   Stopwatch solve;
-  const std::vector<Observation> held = cv ? FoldObservations(basis.Y, y, fold_of_pixel, folds) : std::vector<Observation>{};
-  Observation obs = cv ? SumObservations(held) : MakeObservation(f, basis.Y, y);
-  out.choice = ChooseLambda(f, classes, cv ? &cv_system : nullptr, obs, held, basis.geometry.size(), opt.lambda);
+  const std::vector<Observation> held = FoldObservations(basis.Y, y, fold_of_pixel, folds);
+  Observation obs = SumObservations(held);
+  out.choice = ChooseLambda(f, classes, &cv_system, obs, held, basis.geometry.size(), opt.lambda);
   std::vector<double> lambda(classes.size(), out.choice.lambda);
   out.fit = SolveClasswise(f, classes, obs, lambda);
   out.seconds_solve = solve.Seconds();
   // The chosen class by the rule, even where another class's data residual is lower.
   out.fit.chosen = out.choice.chosen_class;
-  if (out.fit.classes[out.fit.chosen].condition[0] * out.fit.classes[out.fit.chosen].condition[0] > kMaxNormalCondition ||
-      out.fit.classes[out.fit.chosen].path != "normal") {
+  if (out.fit.classes[out.fit.chosen].path != "normal") {
     // Too ill-conditioned for the normal equations (λ near 0): solve the chosen
     // class again through the QR of Y.
     AddQr(basis.Y, &f);
