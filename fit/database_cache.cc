@@ -204,7 +204,8 @@ BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId&
   db.label = l.header.value("label", "");
   SelectNames(l.header, keep, path, &db.materials, &db.families);
   const std::vector<int> cols = Columns(keep);
-  const bool all = cols.size() == l.cols;
+  bool all = cols.size() == l.cols;  // every column, in the file's order
+  for (size_t k = 0; all && k < cols.size(); ++k) all = cols[k] == static_cast<int>(k);
   db.B.resize(static_cast<Eigen::Index>(l.rows), static_cast<Eigen::Index>(cols.size()));
   AdviseHugePages(db.B.data(), sizeof(float) * db.B.size());
   bool damaged = false;

@@ -77,6 +77,11 @@ TEST(DatabaseCache, RoundTripsExactlyAndSelectsColumns) {
   ASSERT_EQ(back.B.rows(), db.B.rows());
   EXPECT_EQ(std::memcmp(back.B.data(), db.B.data(), sizeof(float) * db.B.size()), 0) << "not bit-exact";
 
+  std::vector<int> reversed(all.rbegin(), all.rend());  // every material, another order
+  const BasisDatabase back_reversed = ReadDatabaseCache(path, id, reversed);
+  EXPECT_EQ(back_reversed.materials.front(), db.materials.back());
+  EXPECT_TRUE(back_reversed.B.col(0) == db.B.col(45));
+
   const BasisDatabase some = ReadDatabaseCache(path, id, {5, 2});
   ASSERT_EQ(some.B.cols(), 6);
   EXPECT_EQ(some.materials, (std::vector<std::string>{db.materials[5], db.materials[2]}));
