@@ -16,10 +16,12 @@ namespace brdfshot {
 namespace fs = std::filesystem;
 
 namespace {
+// The data folder's networks, else the repository's own copy.
 std::string NpyDir() {
-  const std::string d = DataPath("merl-nbrdf/npy");
   std::error_code ec;
-  return (!d.empty() && fs::is_directory(d, ec)) ? d : "";
+  for (const std::string& d : {DataPath("merl-nbrdf/npy"), RepoDataPath("merl-nbrdf/npy")})
+    if (!d.empty() && fs::is_directory(d, ec)) return d;
+  return "";
 }
 
 // Independent scalar forward pass: reads the float payload after the header's
