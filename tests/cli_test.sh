@@ -61,6 +61,15 @@ check fit 0 "chosen class" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo
 "$B" render --weights "$T/fit/fit.json" --data "$DATA" --probe "$PROBE" --sphere 48 -o "$T/relit.exr" >/dev/null 2>&1
 err=$("$B" compare "$T/photo.exr" "$T/relit.exr" | sed 's/relative RMSE \([0-9.]*\).*/\1/')
 awk -v e="$err" 'BEGIN{exit !(e < 0.05)}' && pass=$((pass+1)) || { echo "FAIL relit error $err >= 0.05"; fail=$((fail+1)); }
+# The fit records how λ was chosen and what it predicts; bad λ options are refused, naming them.
+grep -q '"lambda_rule": "cv"' "$T/fit/fit.json" && grep -q '"predicted_relit_error"' "$T/fit/fit.json" && pass=$((pass+1)) \
+  || { echo "FAIL fit.json lacks the λ choice"; fail=$((fail+1)); }
+check fit-fixed 0 "(fixed)" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda 0.5 --preview-probes "$PROBE" -o "$T/fitl"
+grep -q '"lambda": 0.5' "$T/fitl/fit.json" && pass=$((pass+1)) || { echo "FAIL --lambda 0.5 not recorded"; fail=$((fail+1)); }
+check fit-bad-rule 1 "unknown --lambda-rule 'best'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-rule best -o "$T/fitb1"
+check fit-bad-grid 1 "bad --lambda-grid '0.1,x'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-grid 0.1,x -o "$T/fitb2"
+check fit-bad-folds 1 "--folds must be at least 2" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --folds 1 -o "$T/fitb3"
+[ ! -e "$T/fitb1" ] && [ ! -e "$T/fitb2" ] && [ ! -e "$T/fitb3" ] && pass=$((pass+1)) || { echo "FAIL a refused fit left an output folder"; fail=$((fail+1)); }
 check photo-size 1 "basis images are for" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$PROBE" --classes "$T/c.json" -o "$T/fit2"
 # The staged chain: detect the sphere in a padded render, remap, basis and fit on the observations.
 check render-pad 0 "wrote" -- "$B" render --standin demo-steel $DB --probe "$PROBE" --sphere 64 --pad 20 -o "$T/padded.exr"
