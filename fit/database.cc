@@ -216,16 +216,20 @@ std::vector<int> AllIndices(size_t n) {
   return all;
 }
 
-// The cache file for `src`, built when missing, stale or damaged; "" when
-// caching is off or the cache folder cannot be written (the caller computes).
+// Reads what the caller needs from the cache file for `src` (`read` throws
+// Error on a file that is not a sound cache); when the file is missing, stale
+// or damaged, computes every material into `built` and writes the cache.
+// Returns the cache's path, or "" when caching is off or the cache folder
+// cannot be written (then `built` holds the tables, or nothing with caching off).
 std::string EnsureCache(const ComputedSource& src, const DatabaseOptions& opt, const CachedDatabaseId& id,
-                        const std::function<bool(const std::string&)>& sound, BasisDatabase* built) {
+                        const std::function<void(const std::string&)>& read, BasisDatabase* built) {
   const std::string dir = opt.use_cache ? CacheDir() : "";
   if (dir.empty()) return "";
   const std::string path = (fs::path(dir) / id.FileName()).string();
   if (Exists(path)) {
     try {
-      if (sound(path)) return path;
+      read(path);
+      return path;
     } catch (const Error& e) {
       std::fprintf(stderr, "warning: %s; rebuilding the database cache\n", e.what());
     }
@@ -299,10 +303,7 @@ BasisDatabase LoadDatabase(const DatabaseOptions& opt) {
   const std::vector<int> keep = SelectMaterials(src.names, opt);
   const CachedDatabaseId id = CacheId(src, opt.grid);
   BasisDatabase cached, built;
-  EnsureCache(src, opt, id, [&](const std::string& p) {
-    cached = ReadDatabaseCache(p, id, keep);
-    return true;
-  }, &built);
+  EnsureCache(src, opt, id, [&](const std::string& p) { cached = ReadDatabaseCache(p, id, keep); }, &built);
   if (!cached.materials.empty()) return cached;
   if (!built.materials.empty()) return SelectColumns(std::move(built), keep);  // just built, all materials
   return ComputeTables(src, opt.grid, keep, opt.progress);                      // caching off
@@ -323,10 +324,8 @@ DatabaseGrams LoadDatabaseGrams(const DatabaseOptions& opt) {
   const CachedDatabaseId id = CacheId(src, opt.grid);
   DatabaseGrams grams;
   BasisDatabase built;
-  const std::string path = EnsureCache(src, opt, id, [&](const std::string& p) {
-    grams = ReadDatabaseCacheGrams(p, id, keep);
-    return true;
-  }, &built);
+  const std::string path =
+      EnsureCache(src, opt, id, [&](const std::string& p) { grams = ReadDatabaseCacheGrams(p, id, keep); }, &built);
   if (!grams.materials.empty()) return grams;
   if (!path.empty()) return ReadDatabaseCacheGrams(path, id, keep);  // just built
   return from_tables(ComputeTables(src, opt.grid, keep, opt.progress));
