@@ -22,26 +22,26 @@ std::vector<int> WedgeFolds(const PixelGeometry& g, int folds) {
   return fold;
 }
 
+std::vector<std::vector<int>> RowsByFold(const std::vector<int>& fold_of_pixel, int folds) {
+  std::vector<std::vector<int>> rows(folds);
+  for (size_t p = 0; p < fold_of_pixel.size(); ++p) rows.at(fold_of_pixel[p]).push_back(static_cast<int>(p));
+  return rows;
+}
+
 std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR, 3>& Y,
                                                       const std::vector<int>& fold_of_pixel, int folds) {
   std::vector<std::array<Eigen::MatrixXd, 3>> out(folds);
-  std::vector<std::vector<int>> rows(folds);
-  for (size_t p = 0; p < fold_of_pixel.size(); ++p) rows[fold_of_pixel[p]].push_back(static_cast<int>(p));
+  const std::vector<std::vector<int>> rows = RowsByFold(fold_of_pixel, folds);
 #pragma omp parallel for schedule(dynamic, 1) collapse(2)
   for (int k = 0; k < folds; ++k)
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::MatrixXd part = Y[c](rows[k], Eigen::all).cast<double>();
-      Eigen::MatrixXd g = Eigen::MatrixXd::Zero(Y[c].cols(), Y[c].cols());
-      g.selfadjointView<Eigen::Lower>().rankUpdate(part.transpose());
-      out[k][c] = g.selfadjointView<Eigen::Lower>();
-    }
+    for (int c = 0; c < 3; ++c)
+      out[k][c] = rows[k].empty() ? Eigen::MatrixXd::Zero(Y[c].cols(), Y[c].cols()) : GramOfRows(Y[c], rows[k]);
   return out;
 }
 
 std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
                                           const std::vector<int>& fold_of_pixel, int folds) {
-  std::vector<std::vector<int>> rows(folds);
-  for (size_t p = 0; p < fold_of_pixel.size(); ++p) rows[fold_of_pixel[p]].push_back(static_cast<int>(p));
+  const std::vector<std::vector<int>> rows = RowsByFold(fold_of_pixel, folds);
   std::vector<Observation> out(folds);
 #pragma omp parallel for schedule(dynamic, 1) collapse(2)
   for (int k = 0; k < folds; ++k)

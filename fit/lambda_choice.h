@@ -37,6 +37,9 @@ namespace brdfshot {
 // fold spans the sphere from its centre to its rim.
 std::vector<int> WedgeFolds(const PixelGeometry& g, int folds);
 
+// The pixels of each fold, in order.
+std::vector<std::vector<int>> RowsByFold(const std::vector<int>& fold_of_pixel, int folds);
+
 // Per fold, per channel: the Gram matrix of the held-out pixels' basis images.
 std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR, 3>& Y,
                                                       const std::vector<int>& fold_of_pixel, int folds);

@@ -135,8 +135,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
           held[k].z[c] = in.scenes[a].fold_gram[k][c].col(3 * m + c);
           held[k].norm2[c] = in.scenes[a].fold_gram[k][c](3 * m + c, 3 * m + c);
         }
-      CvSystem cv;
-      cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members);
+      const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members);
       const std::vector<ClassSpectrum> auto_classes =
           auto_members.size() == ours_members.size() ? ours_classes : FactorClasses(fa, auto_members);
       const LambdaChoice choice = ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels, opt.choice);

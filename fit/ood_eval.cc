@@ -11,8 +11,7 @@ namespace brdfshot {
 TargetScene MakeTargetScene(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
                             const std::array<MatrixXfR, 3>& Yt, const std::vector<int>& fold_of_pixel, int folds) {
   const Eigen::Index T = Yt[0].cols() / 3, n = Y[0].cols();
-  std::vector<std::vector<int>> rows(folds);
-  for (size_t p = 0; p < fold_of_pixel.size(); ++p) rows[fold_of_pixel[p]].push_back(static_cast<int>(p));
+  const std::vector<std::vector<int>> rows = RowsByFold(fold_of_pixel, folds);
   TargetScene s;
   s.fold_cross.resize(folds);
   s.fold_self.resize(folds);
@@ -46,8 +45,8 @@ TargetScene MakeTargetScene(const std::array<ChannelFactor, 3>& f, const std::ar
 
 namespace {
 std::vector<std::vector<int>> Members(const ClassModel& model) {
-  std::vector<std::vector<int>> out(model.classes());
-  for (size_t i = 0; i < model.label.size(); ++i) out[model.label[i]].push_back(static_cast<int>(i));
+  std::vector<std::vector<int>> out;
+  for (int j = 0; j < model.classes(); ++j) out.push_back(model.Members(j));
   return out;
 }
 

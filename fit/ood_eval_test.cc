@@ -81,3 +81,15 @@ TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
 }
 
 }  // namespace brdfshot
+
+namespace brdfshot {
+
+TEST(Spearman, RanksWithTiesAgainstHandComputedValues) {
+  EXPECT_DOUBLE_EQ(SpearmanCorrelation({0.1, 0.5, 0.2, 9}, {1, 100, 2, 1e6}), 1.0);  // any monotone map
+  EXPECT_DOUBLE_EQ(SpearmanCorrelation({1, 2, 3}, {3, 2, 1}), -1.0);
+  // Ties take their mean rank: ranks (0, 1.5, 1.5, 3) and (0, 2, 1, 3) give 4.5 / √(4.5 · 5).
+  EXPECT_NEAR(SpearmanCorrelation({1, 2, 2, 3}, {1, 3, 2, 4}), 4.5 / std::sqrt(22.5), 1e-12);
+  EXPECT_EQ(SpearmanCorrelation({1, 1, 1}, {1, 2, 3}), 0.0) << "a constant sample has no ranking";
+}
+
+}  // namespace brdfshot

@@ -29,8 +29,8 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   PhotoFit out;
   Stopwatch sw;
   std::array<ChannelFactor, 3> f = FactorBasisImages(basis.Y);
-  std::vector<std::vector<int>> members(model.classes());
-  for (size_t i = 0; i < model.label.size(); ++i) members[model.label[i]].push_back(static_cast<int>(i));
+  std::vector<std::vector<int>> members;
+  for (int j = 0; j < model.classes(); ++j) members.push_back(model.Members(j));
   const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
   // The folds serve the choice (rule cv) and the predicted error (every rule).
   const int folds = std::max(2, opt.folds);

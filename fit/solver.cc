@@ -10,26 +10,24 @@
 
 namespace brdfshot {
 
-namespace {
-// YᵀY in double, accumulated over row blocks: float products within a block of
-// 4096 rows, blocks summed in double (the pixels' sum needs the precision).
-Eigen::MatrixXd GramOf(const MatrixXfR& Y) {
-  const Eigen::Index n = Y.cols();
-  constexpr Eigen::Index kBlock = 2048;
+Eigen::MatrixXd GramOfRows(const MatrixXfR& Y, const std::vector<int>& rows) {
+  const Eigen::Index n = Y.cols(), count = rows.empty() ? Y.rows() : static_cast<Eigen::Index>(rows.size());
+  constexpr Eigen::Index kBlock = 2048;  // rows widened to double at a time
   Eigen::MatrixXd g = Eigen::MatrixXd::Zero(n, n);
-  for (Eigen::Index r0 = 0; r0 < Y.rows(); r0 += kBlock) {
-    const Eigen::Index rows = std::min(kBlock, Y.rows() - r0);
-    const Eigen::MatrixXd blk = Y.middleRows(r0, rows).cast<double>();
+  for (Eigen::Index r0 = 0; r0 < count; r0 += kBlock) {
+    const Eigen::Index m = std::min(kBlock, count - r0);
+    const Eigen::MatrixXd blk =
+        rows.empty() ? Eigen::MatrixXd(Y.middleRows(r0, m).cast<double>())
+                     : Eigen::MatrixXd(Y(std::vector<int>(rows.begin() + r0, rows.begin() + r0 + m), Eigen::all).cast<double>());
     g.selfadjointView<Eigen::Lower>().rankUpdate(blk.transpose());
   }
   return g.selfadjointView<Eigen::Lower>();
 }
-}  // namespace
 
 std::array<ChannelFactor, 3> FactorBasisImages(const std::array<MatrixXfR, 3>& Y, bool with_qr) {
   std::array<ChannelFactor, 3> f;
 #pragma omp parallel for schedule(static, 1)
-  for (int c = 0; c < 3; ++c) f[c].gram = GramOf(Y[c]);
+  for (int c = 0; c < 3; ++c) f[c].gram = GramOfRows(Y[c]);
   if (with_qr) AddQr(Y, &f);
   return f;
 }

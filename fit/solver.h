@@ -56,6 +56,11 @@ struct Observation {                    // what a solve needs of an image
 // y: pixels × 3, the same pixels as Y's rows.
 Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
                             const Eigen::MatrixXd& y);
+// YᵀY over `rows` (all rows when empty) in double. Not GramMatrix (database.h):
+// its float sums within 8192-row blocks are good to ~1e-4, and the normal
+// equations here are solved at condition numbers up to 1e8.
+Eigen::MatrixXd GramOfRows(const MatrixXfR& Y, const std::vector<int>& rows = {});
+
 // Y_cᵀ y over `rows` (all rows when empty), in double: float rows are widened
 // in blocks so neither the sum over thousands of pixels nor a copy of Y in
 // double costs precision or memory.
