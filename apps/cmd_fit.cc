@@ -22,6 +22,7 @@ int FitMain(int argc, char** argv) {
   PhotoFitOptions fo;
   std::string basis_path, photo_path, obs_path, classes_path, out = "fit_out", previews, grid;
   double lambda = -1;
+  std::string constraint = "bins";
   po::options_description desc("options");
   desc.add_options()
       ("basis,b", po::value(&basis_path)->required(), "basis-image cache from 'brdfshot basis'")
@@ -35,6 +36,9 @@ int FitMain(int argc, char** argv) {
       ("max-condition", po::value(&fo.lambda.max_condition)->default_value(fo.lambda.max_condition),
        "a λ is a candidate only while the condition number of G_JJ + λ_j I stays below this")
       ("lambda-grid", po::value(&grid), "comma-separated λ values the rule chooses among (default: 0 … 10)")
+      ("constraint", po::value(&constraint)->default_value(constraint),
+       "what the fit keeps non-negative: bins (the BRDF at every 31st bin; default), weights (every weight ≥ 0: "
+       "non-negative everywhere, but relights worse), none")
       ("out,o", po::value(&out)->default_value(out), "output folder")
       ("preview-probes", po::value(&previews), "probes to relight the result under (default: two of <data>/envmaps)");
   db.Add(desc);
@@ -51,6 +55,7 @@ int FitMain(int argc, char** argv) {
   if (fo.folds < 2) throw Error("--folds must be at least 2");
   if (!(fo.lambda.max_condition >= 1)) throw Error("--max-condition must be at least 1");
   if (!grid.empty()) fo.lambda.grid = ParseLambdaGrid(grid);
+  fo.constraint = ParseConstraint(constraint);
 
   const BasisImages basis = BasisImages::Read(basis_path);
   const nlohmann::json model_json = ReadJsonFile(classes_path);
@@ -58,12 +63,15 @@ int FitMain(int argc, char** argv) {
   const ClassModel model = ClassModel::FromJson(model_json, classes_path);
   const Eigen::MatrixXd y = ReadFitPixels(basis, basis_path, photo_path, obs_path);
 
+  const BasisDatabase tables = DatabaseOfBases(basis, db.ToOptions(false));
+
   MakeOutputDir(out);  // only once the inputs have been read: a refused input leaves nothing behind
-  const PhotoFit fit = FitPhoto(basis, model, y, fo);
+  const PhotoFit fit = FitPhoto(basis, model, y, fo, &tables.B);
   const FitRecord record = FitRecord::From(fit, basis, obs_path.empty() ? photo_path : obs_path);
   record.Write(out + "/fit.json");
   std::string label;
-  const MerlBrdf brdf = BrdfOfFit(record, db.ToOptions(false), &label);
+  long clamped = 0;
+  const MerlBrdf brdf = BrdfOfFit(record, tables, &label, &clamped);
   brdf.Write(out + "/brdf.binary");
 
   // Previews: photo | reconstruction, then the result relit under other probes.
@@ -81,13 +89,16 @@ int FitMain(int argc, char** argv) {
     const cv::Mat img = PixelsToImage(pg, TransportOperator::Build(pg, probe, brdf.grid(), quality.q).Render(brdf));
     WritePngTonemapped(out + "/relit_" + probe.name() + ".png", img, AutoExposure(img));
   }
-  std::printf("%s\nchosen class %d, lambda %g (%s); predicted relit error %.4f; per class (residual, bases, cond):",
-              label.c_str(), record.chosen_class, record.lambda, record.lambda_rule.c_str(), record.predicted_relit_error);
+  std::printf("%s\nchosen class %d, lambda %g (%s), constraint: %s (%ld bin-channels below zero clamped); predicted relit error %.4f; per class (residual, bases, cond):",
+              label.c_str(), record.chosen_class, record.lambda, record.lambda_rule.c_str(),
+              record.weights_constraint.c_str(), clamped, record.predicted_relit_error);
   for (size_t k = 0; k < record.classes.size(); ++k)
     std::printf(" [%zu] %.4g, %d, %.3g", k, record.classes[k].residual, record.classes[k].members, record.classes[k].condition);
-  std::printf("\nrelative residual %.4f; solve %.2f ms (after a %.3f s factorisation)\n"
+  std::printf("\nrelative residual %.4f; solve %.2f ms (after a %.3f s factorisation); whole table checked in %.2f s, "
+              "%d bins off the sample constrained\n"
               "wrote %s/fit.json, brdf.binary, photo_vs_fit.png and %zu relit previews\n",
-              record.relative_residual, 1000 * record.seconds_solve, record.seconds_factor, out.c_str(), picked.size());
+              record.relative_residual, 1000 * record.seconds_solve, record.seconds_factor, record.seconds_table_check,
+              record.negative_bins_added, out.c_str(), picked.size());
   return 0;
 }
 

@@ -111,4 +111,11 @@ void MakeOutputDir(const std::string& dir) {
   if (!std::filesystem::is_directory(dir, ec)) throw FileError(dir, "cannot create output folder");
 }
 
+WeightConstraint::Kind ParseConstraint(const std::string& text) {
+  if (text == "none") return WeightConstraint::Kind::kNone;
+  if (text == "weights") return WeightConstraint::Kind::kWeights;
+  if (text == "bins") return WeightConstraint::Kind::kBins;
+  throw Error("unknown --constraint '" + text + "': bins, weights or none");
+}
+
 }  // namespace brdfshot

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fit/database.h"
+#include "fit/solver.h"
 #include "fit/transport.h"
 
 namespace brdfshot {
@@ -37,6 +38,9 @@ double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo, const s
 
 // "0,0.01,0.1,1": λ values, each finite and ≥ 0; Error quoting the text otherwise.
 std::vector<double> ParseLambdaGrid(const std::string& text);
+
+// "none", "weights" or "bins" (--constraint); Error quoting the text otherwise.
+WeightConstraint::Kind ParseConstraint(const std::string& text);
 
 struct QualityArgs {
   RenderQuality q;

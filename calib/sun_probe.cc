@@ -31,4 +31,16 @@ LatLongProbe SunProbe(const Vec3& direction, const cv::Vec3f& irradiance, double
   return LatLongProbe(rgb, "sun");
 }
 
+LatLongProbe SunOverSkyProbe(const Vec3& direction, const cv::Vec3f& irradiance, const cv::Vec3f& sky_radiance,
+                             double radius_deg, int width) {
+  for (int c = 0; c < 3; ++c)
+    if (!(sky_radiance[c] >= 0)) throw Error("the sky radiance must be non-negative and finite");
+  cv::Mat rgb = SunProbe(direction, irradiance, radius_deg, width).rgb().clone();
+  const LatLongProbe frame(rgb, "sun");
+  for (int row = 0; row < frame.height(); ++row)
+    if (frame.DirectionAt(0, row + 0.5).y > 0)
+      for (int col = 0; col < frame.width(); ++col) rgb.at<cv::Vec3f>(row, col) += sky_radiance;
+  return LatLongProbe(rgb, "sun");
+}
+
 }  // namespace brdfshot

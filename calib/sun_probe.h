@@ -18,4 +18,11 @@ namespace brdfshot {
 LatLongProbe SunProbe(const Vec3& direction, const cv::Vec3f& irradiance, double radius_deg = 1.0,
                       int width = 512);
 
+// The sun of SunProbe over a uniform sky: `sky_radiance` on every texel
+// above the horizon (+y up), the sun's disc added on top. A small sun over a
+// dim sky is the lighting that tests a BRDF's highlight and its falloff
+// hardest — the case natural probes, with their broad light, say least about.
+LatLongProbe SunOverSkyProbe(const Vec3& direction, const cv::Vec3f& irradiance, const cv::Vec3f& sky_radiance,
+                             double radius_deg = 1.0, int width = 512);
+
 }  // namespace brdfshot

@@ -45,5 +45,20 @@ TEST(SunProbe, RefusesZeroDirectionAndNegativeIntensity) {
   EXPECT_THROW(SunProbe(Vec3(0, 0, 1), cv::Vec3f(1, NAN, 1)), Error);
 }
 
+TEST(SunOverSkyProbe, AddsTheSkysPowerOverTheUpperHemisphereOnly) {
+  // A uniform sky of radiance L over the upper hemisphere delivers 2πL of
+  // power (Σ L dω); below the horizon only the sun may be lit.
+  const Vec3 dir(0.3, 0.5, 0.8);
+  const cv::Vec3f e(1.0f, 2.0f, 3.0f), sky(0.01f, 0.02f, 0.04f);
+  const LatLongProbe p = SunOverSkyProbe(dir, e, sky, 2.0, 256);
+  cv::Vec3d power;
+  Vec3 centroid;
+  PowerAndCentroid(p, &power, &centroid);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(power[k], e[k] + 2 * kPi * sky[k], 1e-4 * power[k]) << k;
+  for (int row = p.height() / 2; row < p.height(); ++row)
+    for (int col = 0; col < p.width(); col += 7) EXPECT_EQ(p.Texel(col, row), cv::Vec3f(0, 0, 0)) << row;
+  EXPECT_THROW(SunOverSkyProbe(dir, e, cv::Vec3f(0, -1, 0)), Error);
+}
+
 }  // namespace
 }  // namespace brdfshot

@@ -365,20 +365,23 @@ std::vector<float> CosineWeights(const MerlGrid& grid) {
   return w;
 }
 
-MerlBrdf CombineBases(const BasisDatabase& db, const Eigen::MatrixXd& weights) {
+MerlBrdf CombineBases(const BasisDatabase& db, const Eigen::MatrixXd& weights, long* clamped) {
   BRDFSHOT_CHECK(weights.rows() == db.num_bases() && weights.cols() == 3);
   MerlBrdf out(db.grid);
   const Eigen::MatrixXf wf = weights.cast<float>();
-#pragma omp parallel for schedule(static)
+  long below = 0;
+#pragma omp parallel for schedule(static) reduction(+ : below)
   for (long idx = 0; idx < static_cast<long>(db.grid.size()); ++idx) {
     if (!db.grid.Measurable(idx)) continue;
     for (int c = 0; c < 3; ++c) {
       const double v = db.B.row(idx).dot(wf.col(c).transpose());
       // A combination may dip below zero where weights are negative: clamp, since
       // a negative entry would read as "unmeasured".
+      below += v < 0;
       out.set_raw(c, idx, std::max(0.0, v) / kMerlScale[c]);
     }
   }
+  if (clamped) *clamped = below;
   return out;
 }
 

@@ -82,6 +82,6 @@ std::vector<float> CosineWeights(const MerlGrid& grid);
 
 // A BRDF from per-channel weights over the bases: ρ_c = B w_c (MERL file layout;
 // unmeasurable bins −1). `weights` is n × 3.
-MerlBrdf CombineBases(const BasisDatabase& db, const Eigen::MatrixXd& weights);
+MerlBrdf CombineBases(const BasisDatabase& db, const Eigen::MatrixXd& weights, long* clamped = nullptr);
 
 }  // namespace brdfshot

@@ -3,7 +3,9 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <map>
 
+#include "fit/bin_constraints.h"
 #include "util/check.h"
 #include "util/progress.h"
 
@@ -49,6 +51,36 @@ std::vector<std::vector<int>> MembersInFull(const ClassModel& model, const std::
 }
 
 }  // namespace
+
+MatrixXfR SampleBins(const MatrixXfR& B, int stride, int offset) {
+  BRDFSHOT_CHECK(stride >= 1 && offset >= 0);
+  const Eigen::Index rows = B.rows() > offset ? (B.rows() - offset + stride - 1) / stride : 0;
+  MatrixXfR out(rows, B.cols());
+  for (Eigen::Index i = 0; i < rows; ++i) out.row(i) = B.row(offset + i * stride);
+  return out;
+}
+
+std::vector<double> NegativeBinShares(const MatrixXfR& bins, const Eigen::MatrixXd& W) {
+  BRDFSHOT_CHECK(W.cols() % 3 == 0);
+  std::vector<double> out(W.cols() / 3, -1.0);
+  if (bins.rows() == 0) return out;
+  BRDFSHOT_CHECK(bins.cols() == W.rows());
+  // One float product for every fit at once (the bins are read once); the
+  // magnitude Σ|w_i b_i| only where a value is below zero.
+  const Eigen::MatrixXf Wf = W.cast<float>();
+  const Eigen::MatrixXf values = bins * Wf;
+  std::fill(out.begin(), out.end(), 0.0);
+  for (Eigen::Index c = 0; c < values.cols(); ++c)
+    for (Eigen::Index i = 0; i < values.rows(); ++i) {
+      if (values(i, c) >= 0) continue;
+      const double magnitude = bins.row(i).cast<double>().cwiseAbs().dot(W.col(c).cwiseAbs());
+      out[c / 3] += values(i, c) < -kNegativeBinTolerance * magnitude;
+    }
+  for (double& v : out) v /= 3.0 * static_cast<double>(bins.rows());
+  return out;
+}
+
+double NegativeBinShare(const MatrixXfR& bins, const Eigen::MatrixXd& w) { return NegativeBinShares(bins, w)[0]; }
 
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -116,7 +148,9 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     SolveOptions so;
     so.lambda = opt.lambda;
     const std::array<const Eigen::MatrixXd*, 3> gcos = {&in.gram_cos, &in.gram_cos, &in.gram_cos};
+    std::map<int, Eigen::MatrixXd> constraint_bins;  // per chosen class of material m
     for (int a = 0; a < S; ++a) {
+      if (in.scenes[a].scoring_only) continue;
       const auto& fa = in.scenes[a].f;
       const Observation obs = BasisObservation(fa, {3 * m, 3 * m + 1, 3 * m + 2});
       struct Method {
@@ -139,34 +173,44 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const std::vector<ClassSpectrum> auto_classes =
           auto_members.size() == ours_members.size() ? ours_classes : FactorClasses(fa, auto_members);
       const LambdaChoice choice = ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels, opt.choice);
-      const ClassSolution chosen = SolveClass(fa, auto_classes[choice.chosen_class], obs, choice.lambda);
-      const Method methods[] = {{"auto", chosen.weights, choice.chosen_class},
-                                {"ours", ours.weights(), ours.chosen},
-                                {"paper", paper.weights(), paper.chosen},
-                                {"lsq", SolveLeastSquares(fa, obs, keep), -1},
-                                {"oracle", oracle, -1}};
+      const ClassSpectrum& picked = auto_classes[choice.chosen_class];
+      WeightConstraint constraint;
+      constraint.kind = opt.constraint;
+      if (opt.constraint == WeightConstraint::Kind::kBins) {
+        auto it = constraint_bins.find(choice.chosen_class);
+        if (it == constraint_bins.end())
+          it = constraint_bins.emplace(choice.chosen_class, ConstraintBins(in.constraint_sample, picked.members, 1)).first;
+        constraint.bins = &it->second;
+      }
+      const Method methods[] = {
+          {"auto", SolveClass(fa, picked, obs, choice.lambda, constraint).weights, choice.chosen_class},
+          {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
+          {"ours", ours.weights(), ours.chosen},
+          {"paper", paper.weights(), paper.chosen},
+          {"lsq", SolveLeastSquares(fa, obs, keep), -1},
+          {"oracle", oracle, -1}};
       for (const Method& meth : methods) {
         LooRow row;
         row.material = in.materials[m];
         row.probe = in.scenes[a].probe;
         row.method = meth.name;
         row.chosen_class = meth.cls;
-        if (std::string(meth.name) == "auto") row.lambda = choice.lambda, row.predicted = choice.predicted_error;
+        if (meth.cls >= 0 && std::string(meth.name).rfind("auto", 0) == 0)
+          row.lambda = choice.lambda, row.predicted = choice.predicted_error;
         if (std::string(meth.name) == "ours" || std::string(meth.name) == "paper") row.lambda = opt.lambda;
-        std::vector<double> relit;
-        for (int b = 0; b < S; ++b) {
-          if (b == a && S > 1) continue;
+        ScoreRelit(in.scenes, a, [&](int b) {
           const auto& f = in.scenes[b].f;
-          relit.push_back(RelativeError({&f[0].gram, &f[1].gram, &f[2].gram}, meth.w, m));
-        }
-        double sum = 0;
-        for (double e : relit) sum += e;
-        row.relit_mean = sum / relit.size();
-        row.relit_median = Median(relit);
+          return RelativeError({&f[0].gram, &f[1].gram, &f[2].gram}, meth.w, m);
+        }, &row);
         row.brdf = RelativeError(gcos, meth.w, m);
         row.insample = RelativeError({&fa[0].gram, &fa[1].gram, &fa[2].gram}, meth.w, m);
         per_material[m].push_back(row);
       }
+      Eigen::MatrixXd W(n, 3 * std::size(methods));
+      for (size_t i = 0; i < std::size(methods); ++i) W.middleCols(3 * i, 3) = methods[i].w;
+      const std::vector<double> negative = NegativeBinShares(in.bin_sample, W);
+      for (size_t i = 0; i < std::size(methods); ++i)
+        per_material[m][per_material[m].size() - std::size(methods) + i].negative_bins = negative[i];
     }
     t_solve[m] = sw2.Seconds();
     progress.Step();

@@ -1,11 +1,12 @@
-// Leave-one-out evaluation of the method against its baselines (DESIGN.md "How
-// we judge it"). For every material m and every probe A: drop m's three channels
+// Leave-one-out evaluation of the method against its baselines (docs/method.md,
+// "How it is judged"). For every material m and every probe A: drop m's three channels
 // from the bases and re-cluster without them, fit m's image under A, and score
 //   relit  — relative RMSE of the reconstruction's image under every probe B ≠ A,
 //   brdf   — cosine-weighted relative RMSE over the table's bins,
 //   insample — relative residual under A itself.
 // Methods: "auto" (the default fit: λ and class chosen per fit by wedge
-// cross-validation, fit/lambda_choice.h), "ours" (corrected M-step, fixed λ),
+// cross-validation, fit/lambda_choice.h, BRDF kept ≥ 0), "auto-signed" (the same
+// λ and class, weights unconstrained), "ours" (corrected M-step, fixed λ),
 // "paper" (M-step as printed), "lsq"
 // (argmin ‖Yw − y‖² over all remaining bases), "oracle" (projection of the true
 // BRDF onto the remaining bases in the cosine-weighted BRDF norm).
@@ -28,6 +29,10 @@ namespace brdfshot {
 
 struct SceneFactors {            // one probe's basis images, factored
   std::string probe;
+  // A directional-light scene (a sun over a dim sky): it scores every fit
+  // (LooRow::relit_directional) and is never fitted from; it needs no QR
+  // and no folds.
+  bool scoring_only = false;
   std::array<ChannelFactor, 3> f;        // with the QR (least squares and the singular fallback)
   std::vector<std::array<Eigen::MatrixXd, 3>> fold_gram;  // per wedge of the sphere (FoldGrams), for "auto"
   size_t pixels = 0;
@@ -38,14 +43,36 @@ struct LooInputs {
   Eigen::MatrixXd gram;                   // BᵀB (clustering)
   Eigen::MatrixXd gram_cos;               // Bᵀ diag(cos²) B (BRDF metric)
   std::vector<SceneFactors> scenes;       // one per probe
+  // A sample of the database's bins (rows of its tables, SampleBins): every
+  // fitted BRDF is evaluated there to count negative values. Empty: not counted.
+  MatrixXfR bin_sample;
+  // The bins the "auto" fit keeps non-negative under LooOptions::constraint
+  // kBins (rows of the tables; disjoint from bin_sample, so the count
+  // measures the bins between them).
+  MatrixXfR constraint_sample;
 };
+
+// Rows offset, offset + stride, … of the tables `B` (bins × bases).
+MatrixXfR SampleBins(const MatrixXfR& B, int stride, int offset = 0);
+
+// The share of (bin, channel) pairs where the BRDF of weights `w` (n × 3) is
+// negative (kNegativeBinTolerance) over the sampled bins; -1 when `bins` is empty.
+double NegativeBinShare(const MatrixXfR& bins, const Eigen::MatrixXd& w);
+// The same for every fit whose weights are a block of three columns of W.
+std::vector<double> NegativeBinShares(const MatrixXfR& bins, const Eigen::MatrixXd& W);
 
 struct LooOptions {
   GmmOptions gmm;
   double lambda = 0.5;             // "ours": the corrected M-step at a fixed λ
   LambdaChoiceOptions choice;      // "auto": λ and class chosen per fit (the default of `fit`)
+  // What "auto" keeps non-negative (kBins: LooInputs::constraint_sample);
+  // "auto-signed" is the same choice unconstrained.
+  WeightConstraint::Kind constraint = WeightConstraint::Kind::kBins;
   bool progress = false;
 };
+
+// Median (mean of the two middle values for an even count; 0 when empty).
+double Median(std::vector<double> v);
 
 struct LooRow {
   std::string material, probe, method;
@@ -53,7 +80,32 @@ struct LooRow {
   double lambda = -1;                     // the λ used (-1: none)
   double predicted = -1;                  // the fit's own predicted error ("auto"; -1: none)
   double relit_mean = 0, relit_median = 0, brdf = 0, insample = 0;
+  double relit_directional = -1;          // mean over the scoring-only scenes (-1: none)
+  double negative_bins = -1;              // NegativeBinShare of the fitted BRDF (-1: not counted)
 };
+
+// Fills row's relit_mean / relit_median (over the fitted scenes b ≠ a) and
+// relit_directional (over the scoring-only scenes) from error(b), the fit's
+// relit error under scene b.
+template <typename ErrorUnder>
+void ScoreRelit(const std::vector<SceneFactors>& scenes, int a, ErrorUnder&& error, LooRow* row) {
+  std::vector<double> relit;
+  double directional = 0;
+  int directional_count = 0;
+  for (int b = 0; b < static_cast<int>(scenes.size()); ++b) {
+    if (scenes[b].scoring_only) {
+      directional += error(b), ++directional_count;
+    } else if (b != a) {
+      relit.push_back(error(b));
+    }
+  }
+  if (relit.empty()) relit.push_back(error(a));  // one probe only: in-sample
+  double sum = 0;
+  for (double e : relit) sum += e;
+  row->relit_mean = sum / static_cast<double>(relit.size());
+  row->relit_median = Median(relit);
+  row->relit_directional = directional_count ? directional / directional_count : -1;
+}
 
 struct LooResult {
   std::vector<LooRow> rows;
@@ -61,9 +113,6 @@ struct LooResult {
 };
 
 LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt);
-
-// Median (mean of the two middle values for an even count; 0 when empty).
-double Median(std::vector<double> v);
 
 // Spearman's rank correlation of two equally long samples (ties get their mean
 // rank); 0 when fewer than two values or a sample is constant.

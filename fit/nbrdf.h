@@ -9,10 +9,9 @@
 #include <string>
 
 #include "fit/merl_brdf.h"
+#include "util/eigen_types.h"
 
 namespace brdfshot {
-
-using MatrixXfR = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 class NbrdfNetwork {
  public:

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "fit/bin_constraints.h"
 #include "util/check.h"
 #include "util/progress.h"
 
@@ -16,9 +17,8 @@ TargetScene MakeTargetScene(const std::array<ChannelFactor, 3>& f, const std::ar
   s.fold_cross.resize(folds);
   s.fold_self.resize(folds);
   for (int c = 0; c < 3; ++c) {
-    BRDFSHOT_CHECK(f[c].has_qr());
     s.cross[c].resize(n, T);
-    s.cross_qr[c].resize(n, T);
+    if (f[c].has_qr()) s.cross_qr[c].resize(n, T);
     s.self[c].resize(T);
     for (int k = 0; k < folds; ++k) s.fold_cross[k][c].resize(n, T), s.fold_self[k][c].resize(T);
 #pragma omp parallel for schedule(dynamic, 4)
@@ -33,6 +33,7 @@ TargetScene MakeTargetScene(const std::array<ChannelFactor, 3>& f, const std::ar
         parts += zk;
       }
       s.cross[c].col(t) = parts;
+      if (!f[c].has_qr()) continue;
       Eigen::VectorXd full = y;
       full.applyOnTheLeft(f[c].qr->householderQ().adjoint());
       s.cross_qr[c].col(t) = Eigen::VectorXd::Zero(n);
@@ -76,7 +77,12 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
                            const std::vector<std::string>& targets, const LooOptions& opt) {
   const int S = static_cast<int>(bases.scenes.size()), T = static_cast<int>(targets.size());
   const int n = static_cast<int>(bases.gram.rows());
-  BRDFSHOT_CHECK(static_cast<int>(scenes.size()) == S && S > 1);
+  BRDFSHOT_CHECK(static_cast<int>(scenes.size()) == S);
+  std::vector<int> fitted;  // the scenes fits are made from (and the oracle's)
+  for (int a = 0; a < S; ++a)
+    if (!bases.scenes[a].scoring_only) fitted.push_back(a);
+  const int F = static_cast<int>(fitted.size());
+  BRDFSHOT_CHECK(F > 1, "out-of-database evaluation needs two probes to fit from");
   Stopwatch sw;
   GmmOptions ours_opt = opt.gmm, paper_opt = opt.gmm;
   ours_opt.paper_mstep = false;
@@ -91,7 +97,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
   std::vector<CvSystem> cv(S);
   std::vector<std::array<Eigen::MatrixXd, 3>> oracle_inverse(S);  // (Σ_{b≠a} G_b)⁺ per channel
 #pragma omp parallel for schedule(dynamic, 1)
-  for (int a = 0; a < S; ++a) {
+  for (int i = 0; i < F; ++i) {
+    const int a = fitted[i];
     const auto& fa = bases.scenes[a].f;
     ours_classes[a] = FactorClasses(fa, ours_members);
     paper_classes[a] = FactorClasses(fa, paper_members);
@@ -99,11 +106,16 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
     cv[a] = FactorFolds(fa, bases.scenes[a].fold_gram, auto_members);
     for (int c = 0; c < 3; ++c) {
       Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(n, n);
-      for (int b = 0; b < S; ++b)
+      for (int b : fitted)
         if (b != a) sum += bases.scenes[b].f[c].gram;
       oracle_inverse[a][c] = PseudoInverse(sum);
     }
   }
+  // The constrained bins of each candidate class (the same members in every scene).
+  std::vector<Eigen::MatrixXd> class_bins(auto_members.size());
+  if (opt.constraint == WeightConstraint::Kind::kBins)
+    for (size_t j = 0; j < auto_members.size(); ++j)
+      class_bins[j] = ConstraintBins(bases.constraint_sample, auto_members[j], 1);
   LooResult r;
   r.seconds_cluster = sw.Seconds();
 
@@ -113,7 +125,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
   so.lambda = opt.lambda;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int t = 0; t < T; ++t) {
-    for (int a = 0; a < S; ++a) {
+    for (int a : fitted) {
       const auto& fa = bases.scenes[a].f;
       const TargetScene& ta = scenes[a];
       Observation obs;
@@ -132,7 +144,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       Eigen::MatrixXd oracle(n, 3);
       for (int c = 0; c < 3; ++c) {
         Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
-        for (int b = 0; b < S; ++b)
+        for (int b : fitted)
           if (b != a) rhs += scenes[b].cross[c].col(t);
         oracle.col(c) = oracle_inverse[a][c] * rhs;
       }
@@ -141,7 +153,12 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         Eigen::MatrixXd w;
         int cls;
       };
-      const Method methods[] = {{"auto", SolveClass(fa, auto_classes[a][choice.chosen_class], obs, choice.lambda).weights, choice.chosen_class},
+      const ClassSpectrum& picked = auto_classes[a][choice.chosen_class];
+      WeightConstraint constraint;
+      constraint.kind = opt.constraint;
+      if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &class_bins[choice.chosen_class];
+      const Method methods[] = {{"auto", SolveClass(fa, picked, obs, choice.lambda, constraint).weights, choice.chosen_class},
+                                {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
                                 {"ours", ours.weights(), ours.chosen},
                                 {"paper", paper.weights(), paper.chosen},
                                 {"lsq", SolveLeastSquares(fa, obs, all), -1},
@@ -152,15 +169,12 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         row.probe = bases.scenes[a].probe;
         row.method = m.name;
         row.chosen_class = m.cls;
-        if (std::string(m.name) == "auto") row.lambda = choice.lambda, row.predicted = choice.predicted_error;
-        std::vector<double> relit;
-        for (int b = 0; b < S; ++b)
-          if (b != a) relit.push_back(TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t));
-        double sum = 0;
-        for (double e : relit) sum += e;
-        row.relit_mean = sum / relit.size();
-        row.relit_median = Median(relit);
+        if (std::string(m.name).rfind("auto", 0) == 0) row.lambda = choice.lambda, row.predicted = choice.predicted_error;
+        if (std::string(m.name) == "ours" || std::string(m.name) == "paper") row.lambda = opt.lambda;
+        ScoreRelit(bases.scenes, a, [&](int b) { return TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t); },
+                   &row);
         row.brdf = std::nan("");
+        row.negative_bins = NegativeBinShare(bases.bin_sample, m.w);
         row.insample = TargetError(fa.data(), ta, m.w, t);
         per_target[t].push_back(row);
       }

@@ -5,9 +5,10 @@
 // bases' Gram matrices G_b, the cross products X_b = Y_bᵀ y_b of the bases'
 // and the target's images and the targets' ‖y_b‖², the relit error of weights
 // w is √(Σ_c w_cᵀG_b w_c − 2 w_cᵀX_b + ‖y_b‖²) / ‖y_b‖.
-// Methods: "auto", "ours", "paper", "lsq" as in leave-one-out, and
-// "relit-oracle": the weights that minimise the relit error summed over the
-// scoring probes themselves — the floor no fit from one photo can beat.
+// Methods: "auto", "auto-signed", "ours", "paper", "lsq" as in leave-one-out,
+// and "relit-oracle": the weights that minimise the relit error summed over
+// the other fitted probes themselves — the floor no fit from one photo can beat
+// there (scoring-only scenes are not part of its objective).
 #pragma once
 
 #include <Eigen/Core>
@@ -29,7 +30,8 @@ struct TargetScene {
 };
 
 // Y: the scene's basis images (pixels × n per channel), Yt: the targets' images
-// (pixels × 3T, column 3t + c is target t's channel c); `f` must hold the QR.
+// (pixels × 3T, column 3t + c is target t's channel c); cross_qr only when `f`
+// holds the QR (scenes fits are made from).
 TargetScene MakeTargetScene(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
                             const std::array<MatrixXfR, 3>& Yt, const std::vector<int>& fold_of_pixel, int folds);
 

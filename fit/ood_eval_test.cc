@@ -30,6 +30,7 @@ std::array<MatrixXfR, 3> Images(const PixelGeometry& g, int n, std::mt19937& rng
 TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
   const PixelGeometry g = OrthographicSphere(24, 80);
   std::mt19937 rng(3);
+  // Three scenes to fit from and one directional scene that only scores.
   const int n = 12, S = 3, T = 2, K = 4;
   const std::vector<int> fold = WedgeFolds(g, K);
   // Two targets, each exactly a combination of the bases (the same weights under every probe).
@@ -39,7 +40,8 @@ TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
     for (Eigen::Index i = 0; i < w.size(); ++i) w(i) = 0.2 * gauss(rng);
   LooInputs bases;
   std::vector<TargetScene> scenes;
-  for (int s = 0; s < S; ++s) {
+  for (int s = 0; s <= S; ++s) {
+    const bool scoring_only = s == S;
     const auto Y = Images(g, n, rng);
     std::array<MatrixXfR, 3> Yt;
     for (int c = 0; c < 3; ++c) {
@@ -48,41 +50,76 @@ TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
     }
     SceneFactors sf;
     sf.probe = "p" + std::to_string(s);
-    sf.f = FactorBasisImages(Y, true);
-    sf.fold_gram = FoldGrams(Y, fold, K);
+    sf.scoring_only = scoring_only;
+    sf.f = FactorBasisImages(Y, !scoring_only);
+    if (!scoring_only) sf.fold_gram = FoldGrams(Y, fold, K);
     sf.pixels = g.size();
-    scenes.push_back(MakeTargetScene(sf.f, Y, Yt, fold, K));
+    scenes.push_back(scoring_only ? MakeTargetScene(sf.f, Y, Yt, std::vector<int>(g.size(), 0), 1)
+                                  : MakeTargetScene(sf.f, Y, Yt, fold, K));
     for (int c = 0; c < 3; ++c)  // against a dense product
       for (int t = 0; t < T; ++t) {
         const Eigen::VectorXd want = Y[c].cast<double>().transpose() * Yt[c].col(3 * t + c).cast<double>();
         EXPECT_LT((scenes.back().cross[c].col(t) - want).norm(), 1e-9 * want.norm());
         double parts = 0;
-        for (int k = 0; k < K; ++k) parts += scenes.back().fold_self[k][c][t];
+        for (size_t k = 0; k < scenes.back().fold_self.size(); ++k) parts += scenes.back().fold_self[k][c][t];
         EXPECT_NEAR(parts, scenes.back().self[c][t], 1e-9 * parts);
       }
     bases.scenes.push_back(std::move(sf));
   }
   bases.materials = {"a", "b", "c", "d"};
   bases.gram = bases.scenes[0].f[1].gram;
+  // Non-negative "tables": 50 bins of 12 bases.
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  bases.bin_sample = MatrixXfR::NullaryExpr(50, n, [&]() { return u(rng); });
+  bases.constraint_sample = bases.bin_sample;
   LooOptions opt;
   opt.gmm.classes = 2;
   opt.gmm.dims = 2;
   const LooResult r = RunOutOfDatabase(bases, scenes, {"t0", "t1"}, opt);
-  ASSERT_EQ(r.rows.size(), static_cast<size_t>(T * S * 5));
+  ASSERT_EQ(r.rows.size(), static_cast<size_t>(T * S * 6)) << "six methods, fitted under the three scenes only";
   for (const LooRow& row : r.rows) {
     EXPECT_TRUE(std::isfinite(row.relit_mean)) << row.method;
+    EXPECT_NE(row.probe, "p3") << "a scoring-only scene is never fitted from";
+    EXPECT_GE(row.relit_directional, 0) << row.method;
+    EXPECT_GE(row.negative_bins, 0) << row.method;
     if (row.method == "lsq" || row.method == "relit-oracle") {
+      // In the span: exact under the other fitted scenes; least squares also
+      // under the directional one (the oracle only knows the fitted scenes,
+      // but the targets are in the span so it is exact there too).
       EXPECT_LT(row.relit_mean, 1e-5) << row.method;
+      EXPECT_LT(row.relit_directional, 1e-5) << row.method;
     }
     if (row.method == "auto") {
       EXPECT_GE(row.predicted, 0) << "auto predicts its error";
+      EXPECT_EQ(row.negative_bins, 0.0) << row.probe << " " << row.lambda << " cls " << row.chosen_class << " auto keeps the BRDF non-negative at the constrained bins";
     }
   }
+  // The targets' weights have both signs: least squares reproduces them, and
+  // its BRDF goes negative somewhere on the sampled bins.
+  double lsq_negative = 0;
+  for (const LooRow& row : r.rows)
+    if (row.method == "lsq") lsq_negative += row.negative_bins;
+  EXPECT_GT(lsq_negative, 0);
 }
 
 }  // namespace brdfshot
 
 namespace brdfshot {
+
+TEST(NegativeBinShare, CountsBinChannelPairsBelowZero) {
+  MatrixXfR bins(2, 3);
+  bins << 1, 0, 2,
+          0, 1, 1;
+  Eigen::MatrixXd w(3, 3);
+  w << 1, -1, 1,
+       -2, 1, 0,
+       0, 0, -1;
+  // Values per bin and channel: bin 0 (1, -1, -1), bin 1 (-2, 1, -1): 4 of 6 negative.
+  EXPECT_DOUBLE_EQ(NegativeBinShare(bins, w), 4.0 / 6.0);
+  EXPECT_EQ(NegativeBinShare(MatrixXfR(), w), -1.0) << "nothing sampled: not counted";
+  EXPECT_EQ(SampleBins(bins, 2).rows(), 1);
+  EXPECT_EQ(SampleBins(bins, 1), bins);
+}
 
 TEST(Spearman, RanksWithTiesAgainstHandComputedValues) {
   EXPECT_DOUBLE_EQ(SpearmanCorrelation({0.1, 0.5, 0.2, 9}, {1, 100, 2, 1e6}), 1.0);  // any monotone map

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fit/bin_constraints.h"
 #include "normals/observation.h"
 #include "util/atomic_file.h"
 #include "util/image_io.h"
@@ -22,8 +23,16 @@ void CheckModelMatchesBases(const nlohmann::json& model_json, const std::string&
                                         "', the basis images have '" + names[i] + "'");
 }
 
+std::string ConstraintName(WeightConstraint::Kind kind) {
+  switch (kind) {
+    case WeightConstraint::Kind::kWeights: return "non-negative weights";
+    case WeightConstraint::Kind::kBins: return "non-negative bins";
+    default: return "none";
+  }
+}
+
 PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen::MatrixXd& y,
-                  const PhotoFitOptions& opt) {
+                  const PhotoFitOptions& opt, const MatrixXfR* tables) {
   BRDFSHOT_CHECK(static_cast<size_t>(y.rows()) == basis.geometry.size() && y.cols() == 3);
   BRDFSHOT_CHECK(model.label.size() == static_cast<size_t>(basis.Y[0].cols()));
   PhotoFit out;
@@ -36,6 +45,13 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   const int folds = std::max(2, opt.folds);
   const std::vector<int> fold_of_pixel = WedgeFolds(basis.geometry, folds);
   const CvSystem cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
+  // Every class's constrained bins: they depend on the database, not the photo.
+  std::vector<Eigen::MatrixXd> class_bins(classes.size());
+  if (opt.constraint == WeightConstraint::Kind::kBins) {
+    if (!tables) throw Error("the non-negative-bin constraint needs the database's tables");
+    for (size_t j = 0; j < classes.size(); ++j)
+      class_bins[j] = ConstraintBins(*tables, classes[j].members, std::max(1, opt.constraint_stride));
+  }
   out.seconds_factor = sw.Seconds();
 
   Stopwatch solve;
@@ -44,16 +60,38 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   out.choice = ChooseLambda(f, classes, &cv_system, obs, held, basis.geometry.size(), opt.lambda);
   std::vector<double> lambda(classes.size(), out.choice.lambda);
   out.fit = SolveClasswise(f, classes, obs, lambda);
-  out.seconds_solve = solve.Seconds();
   // The chosen class by the rule, even where another class's data residual is lower.
   out.fit.chosen = out.choice.chosen_class;
-  if (out.fit.classes[out.fit.chosen].path != "normal") {
+  WeightConstraint constraint;
+  constraint.kind = opt.constraint;
+  Eigen::MatrixXd& bins = class_bins[out.fit.chosen];
+  if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &bins;
+  if (out.fit.classes[out.fit.chosen].path != "normal" && opt.constraint != WeightConstraint::Kind::kWeights) {
     // Too ill-conditioned for the normal equations (λ near 0): solve the chosen
     // class again through the QR of Y.
     AddQr(basis.Y, &f);
     obs = MakeObservation(f, basis.Y, y);
-    out.fit.classes[out.fit.chosen] = SolveClass(f, classes[out.fit.chosen], obs, out.choice.lambda);
   }
+  const ClassSpectrum& chosen = classes[out.fit.chosen];
+  if (opt.constraint != WeightConstraint::Kind::kNone || f[0].has_qr())
+    out.fit.classes[out.fit.chosen] = SolveClass(f, chosen, obs, out.choice.lambda, constraint);
+  out.seconds_solve = solve.Seconds();
+  Stopwatch check;
+  // The bins between the sampled ones: the whole table is checked, and any
+  // that dip below zero join the constrained bins for another solve.
+  for (int pass = 0; opt.constraint == WeightConstraint::Kind::kBins && pass < 4; ++pass) {
+    const std::vector<int> negative =
+        NegativeBins(*tables, chosen.members, out.fit.weights()(chosen.members, Eigen::all));
+    out.negative_bins_added += static_cast<int>(negative.size());
+    if (negative.empty()) break;
+    const Eigen::Index old = bins.rows();
+    bins.conservativeResize(old + static_cast<Eigen::Index>(negative.size()), Eigen::NoChange);
+    for (size_t r = 0; r < negative.size(); ++r)
+      for (size_t k = 0; k < chosen.members.size(); ++k)
+        bins(old + static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) = (*tables)(negative[r], chosen.members[k]);
+    out.fit.classes[out.fit.chosen] = SolveClass(f, chosen, obs, out.choice.lambda, constraint);
+  }
+  out.seconds_table_check = check.Seconds();
   const Eigen::MatrixXd& w = out.fit.weights();
   out.reconstruction.resize(y.rows(), 3);
   for (int c = 0; c < 3; ++c) out.reconstruction.col(c) = basis.Y[c].cast<double>() * w.col(c);
@@ -70,6 +108,10 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.probe = basis.header.value("probe", "");
   r.photo = photo;
   r.lambda_rule = f.choice.rule;
+  const std::string& path = f.fit.classes.at(f.fit.chosen).path;
+  r.weights_constraint = path == "nonneg-weights" ? ConstraintName(WeightConstraint::Kind::kWeights)
+                         : path == "nonneg-bins"  ? ConstraintName(WeightConstraint::Kind::kBins)
+                                                  : ConstraintName(WeightConstraint::Kind::kNone);
   r.lambda = f.choice.lambda;
   r.predicted_relit_error = f.choice.predicted_error;
   r.chosen_class = f.fit.chosen;
@@ -81,11 +123,13 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.weights = f.fit.weights();
   r.seconds_factor = f.seconds_factor;
   r.seconds_solve = f.seconds_solve;
+  r.seconds_table_check = f.seconds_table_check;
+  r.negative_bins_added = f.negative_bins_added;
   return r;
 }
 
 namespace {
-constexpr const char* kFitFormat = "brdfshot-fit-2";
+constexpr const char* kFitFormat = "brdfshot-fit-3";
 // JSON has no infinity: an empty class's score is written as null.
 nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 double FromFinite(const nlohmann::json& j) {
@@ -103,6 +147,7 @@ nlohmann::json FitRecord::ToJson() const {
   j["photo"] = photo;
   j["lambda"] = lambda;
   j["lambda_rule"] = lambda_rule;
+  j["weights_constraint"] = weights_constraint;
   j["predicted_relit_error"] = predicted_relit_error;
   j["chosen_class"] = chosen_class;
   j["relative_residual"] = relative_residual;
@@ -125,7 +170,8 @@ nlohmann::json FitRecord::ToJson() const {
   j["bases"] = bases;
   j["weights"] = nlohmann::json::array();
   for (Eigen::Index i = 0; i < weights.rows(); ++i) j["weights"].push_back({weights(i, 0), weights(i, 1), weights(i, 2)});
-  j["seconds"] = {{"factor", seconds_factor}, {"solve", seconds_solve}};
+  j["negative_bins_constrained_after_check"] = negative_bins_added;
+  j["seconds"] = {{"factor", seconds_factor}, {"solve", seconds_solve}, {"table_check", seconds_table_check}};
   return j;
 }
 
@@ -142,6 +188,11 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     r.photo = j.at("photo");
     r.lambda = j.at("lambda");
     r.lambda_rule = j.at("lambda_rule");
+    r.weights_constraint = j.at("weights_constraint");
+    if (r.weights_constraint != ConstraintName(WeightConstraint::Kind::kNone) &&
+        r.weights_constraint != ConstraintName(WeightConstraint::Kind::kWeights) &&
+        r.weights_constraint != ConstraintName(WeightConstraint::Kind::kBins))
+      throw FileError(source, "unknown weights_constraint \"" + r.weights_constraint + "\"");
     r.predicted_relit_error = j.at("predicted_relit_error");
     r.chosen_class = j.at("chosen_class");
     r.relative_residual = j.at("relative_residual");
@@ -164,6 +215,8 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
       for (int c = 0; c < 3; ++c) r.weights(static_cast<Eigen::Index>(i), c) = w[i][c];
     r.seconds_factor = j.at("seconds").at("factor");
     r.seconds_solve = j.at("seconds").at("solve");
+    r.seconds_table_check = j.at("seconds").at("table_check");
+    r.negative_bins_added = j.at("negative_bins_constrained_after_check");
     return r;
   } catch (const nlohmann::json::exception& e) {
     throw FileError(source, std::string("not a fit.json: ") + e.what());
@@ -199,18 +252,37 @@ Eigen::MatrixXd ReadFitPixels(const BasisImages& basis, const std::string& basis
   return y;
 }
 
-MerlBrdf BrdfOfFit(const FitRecord& record, DatabaseOptions opt, std::string* label) {
-  opt.kind = record.database_kind;
-  opt.grid = record.grid;
-  opt.only = MaterialsOfBases(record.bases);
+BasisDatabase DatabaseOfBases(const std::string& kind, const MerlGrid& grid, const std::vector<std::string>& bases,
+                              DatabaseOptions opt) {
+  opt.kind = kind;
+  opt.grid = grid;
+  opt.only = MaterialsOfBases(bases);
   opt.exclude.clear();
   opt.max_materials = 0;
-  const BasisDatabase base = LoadDatabase(opt);
-  if (static_cast<Eigen::Index>(base.num_bases()) != record.weights.rows())
-    throw Error("the fit's " + std::to_string(record.weights.rows()) + " bases are not in the database (" +
+  BasisDatabase base = LoadDatabase(opt);
+  if (static_cast<size_t>(base.num_bases()) != bases.size())
+    throw Error("the fit's " + std::to_string(bases.size()) + " bases are not in the database (" +
                 std::to_string(base.num_bases()) + " found)");
-  if (label) *label = "fit over " + base.label;
-  return CombineBases(base, record.weights);
+  return base;
+}
+
+BasisDatabase DatabaseOfBases(const BasisImages& basis, DatabaseOptions opt) {
+  const auto& g = basis.header.at("grid");
+  return DatabaseOfBases(basis.header.value("database_kind", ""), MerlGrid{g.at(0), g.at(1), g.at(2)},
+                         basis.BasisNames(), std::move(opt));
+}
+
+BasisDatabase DatabaseOfFit(const FitRecord& record, DatabaseOptions opt) {
+  return DatabaseOfBases(record.database_kind, record.grid, record.bases, std::move(opt));
+}
+
+MerlBrdf BrdfOfFit(const FitRecord& record, const BasisDatabase& db, std::string* label, long* clamped) {
+  if (label) *label = "fit over " + db.label;
+  return CombineBases(db, record.weights, clamped);
+}
+
+MerlBrdf BrdfOfFit(const FitRecord& record, DatabaseOptions opt, std::string* label) {
+  return BrdfOfFit(record, DatabaseOfFit(record, std::move(opt)), label);
 }
 
 }  // namespace brdfshot

@@ -19,6 +19,13 @@ namespace brdfshot {
 struct PhotoFitOptions {
   LambdaChoiceOptions lambda;  // rule "cv" by default; "fixed" with --lambda
   int folds = 6;               // wedges for cross-validation
+  // What the chosen class's solve keeps non-negative; λ and the class are
+  // chosen on the unconstrained solve. kBins constrains every
+  // constraint_stride-th bin of the tables (a prime, so the sample does not
+  // alias with the grid); the few bins between them that may still dip below
+  // zero are clamped when the table is written (CombineBases).
+  WeightConstraint::Kind constraint = WeightConstraint::Kind::kBins;
+  int constraint_stride = 31;
 };
 
 struct PhotoFit {
@@ -28,6 +35,8 @@ struct PhotoFit {
   double relative_residual = 0;    // ‖Y w − y‖ / ‖y‖
   double seconds_factor = 0;       // photo-independent: Gram matrices, class and fold spectra
   double seconds_solve = 0;        // the photo's projections, the λ search and the solve
+  double seconds_table_check = 0;  // kBins: the whole table checked for bins below zero (and re-solves)
+  int negative_bins_added = 0;     // kBins: bins off the sample found below zero and constrained too
 };
 
 // Checks that `model` was built for `basis`'s bases (same names, same order);
@@ -35,9 +44,14 @@ struct PhotoFit {
 void CheckModelMatchesBases(const nlohmann::json& model_json, const std::string& model_source,
                             const std::vector<std::string>& basis_names);
 
-// y: pixels × 3 in the order of basis.geometry.
+// y: pixels × 3 in the order of basis.geometry. `tables`: the database's
+// tables for the basis images' bases (bins × bases), needed by the kBins
+// constraint only; Error when that constraint has none.
 PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen::MatrixXd& y,
-                  const PhotoFitOptions& opt);
+                  const PhotoFitOptions& opt, const MatrixXfR* tables = nullptr);
+
+// "none", "non-negative weights", "non-negative bins" (fit.json's weights_constraint).
+std::string ConstraintName(WeightConstraint::Kind kind);
 
 // fit.json: what `fit` wrote, what `render --weights` and `report` read.
 struct FitRecord {
@@ -45,6 +59,7 @@ struct FitRecord {
   MerlGrid grid;
   std::string lambda_rule;
   double lambda = 0;
+  std::string weights_constraint = "none";  // ConstraintName of the chosen class's solve
   double predicted_relit_error = 0;
   int chosen_class = -1;
   double relative_residual = 0;
@@ -58,7 +73,8 @@ struct FitRecord {
   std::vector<std::vector<double>> lambda_scores;  // [class][grid]
   std::vector<std::string> bases;
   Eigen::MatrixXd weights;  // bases × 3
-  double seconds_factor = 0, seconds_solve = 0;
+  double seconds_factor = 0, seconds_solve = 0, seconds_table_check = 0;
+  int negative_bins_added = 0;
 
   static FitRecord From(const PhotoFit& f, const BasisImages& basis, const std::string& photo);
   nlohmann::json ToJson() const;
@@ -74,9 +90,17 @@ struct FitRecord {
 Eigen::MatrixXd ReadFitPixels(const BasisImages& basis, const std::string& basis_path, const std::string& photo_path,
                               const std::string& obs_path);
 
-// The fitted BRDF on the database's grid: Σ w_i b_i over the record's bases,
-// which are reloaded through `opt` (kind and grid from the record). `label`
-// says what it is.
+// The database a fit is made with: the named bases of database `kind` on
+// `grid`, through `opt`'s data paths; Error if they are not all there.
+BasisDatabase DatabaseOfBases(const std::string& kind, const MerlGrid& grid, const std::vector<std::string>& bases,
+                              DatabaseOptions opt);
+BasisDatabase DatabaseOfBases(const BasisImages& basis, DatabaseOptions opt);
+BasisDatabase DatabaseOfFit(const FitRecord& record, DatabaseOptions opt);
+// The fitted BRDF on the database's grid: Σ w_i b_i over the record's bases.
+// `label` says what it is; `clamped` counts the bin-channels set to zero
+// from below.
+MerlBrdf BrdfOfFit(const FitRecord& record, const BasisDatabase& db, std::string* label = nullptr,
+                   long* clamped = nullptr);
 MerlBrdf BrdfOfFit(const FitRecord& record, DatabaseOptions opt, std::string* label = nullptr);
 
 }  // namespace brdfshot

@@ -4,6 +4,9 @@
 
 #include <random>
 
+#include "fit/bin_constraints.h"
+#include "util/check.h"
+
 namespace brdfshot {
 
 namespace {
@@ -12,6 +15,7 @@ namespace {
 struct Scene {
   BasisImages basis;
   ClassModel model;
+  MatrixXfR tables;  // 400 bins × 12 bases, non-negative like every database's
 };
 Scene MakeScene() {
   Scene s;
@@ -28,6 +32,7 @@ Scene MakeScene() {
             a + bx * g.normal[p].x + by * g.normal[p].y + q * g.normal[p].z * g.normal[p].y + 0.05 * u(rng));
     }
   }
+  s.tables = MatrixXfR::NullaryExpr(400, 12, [&]() { return static_cast<float>(u(rng) - 0.1); });
   s.model.mix = Eigen::VectorXd::Constant(2, 0.5);
   s.model.label = {0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1};
   return s;
@@ -50,7 +55,7 @@ TEST(FitPhoto, ExactCombinationOfAClassIsFoundAndPredictedToRelightWell) {
     PhotoFitOptions opt;
     opt.lambda.rule = rule;
     opt.lambda.fixed = 1e-3;
-    const PhotoFit fit = FitPhoto(s.basis, s.model, y, opt);
+    const PhotoFit fit = FitPhoto(s.basis, s.model, y, opt, &s.tables);
     EXPECT_EQ(fit.fit.chosen, 1);
     EXPECT_EQ(fit.choice.chosen_class, 1);
     EXPECT_LT(fit.relative_residual, 0.01);
@@ -69,12 +74,38 @@ TEST(FitPhoto, NoiseRaisesTheChosenLambdaAndThePredictedError) {
   std::normal_distribution<double> noise(0, 0.2);
   Eigen::MatrixXd noisy = clean;
   for (Eigen::Index i = 0; i < noisy.size(); ++i) noisy(i) += noise(rng);
-  const PhotoFit a = FitPhoto(s.basis, s.model, clean, PhotoFitOptions{});
-  const PhotoFit b = FitPhoto(s.basis, s.model, noisy, PhotoFitOptions{});
+  const PhotoFit a = FitPhoto(s.basis, s.model, clean, PhotoFitOptions{}, &s.tables);
+  const PhotoFit b = FitPhoto(s.basis, s.model, noisy, PhotoFitOptions{}, &s.tables);
   EXPECT_GT(b.choice.lambda, a.choice.lambda);
   EXPECT_GT(b.choice.predicted_error, 5 * a.choice.predicted_error);
   // With the noise, the fit stays nearer the truth than the noisy photo is.
   EXPECT_LT((b.reconstruction - clean).norm(), 0.5 * (noisy - clean).norm());
+}
+
+TEST(FitPhoto, BinConstraintKeepsTheWholeTableNonNegative) {
+  // A truth with negative weights: its own BRDF dips below zero at some bins,
+  // so the unconstrained fit (which finds it) does too; the constrained fit
+  // must not, at any bin of the table — sampled or not — and pays for it
+  // with a larger residual.
+  const Scene s = MakeScene();
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(12, 3);
+  for (int c = 0; c < 3; ++c) w.col(c).tail(6) << 0.6, -0.4, 0.3, -0.3, 0.2, 0.1;
+  const Eigen::MatrixXd y = Render(s.basis, w);
+  const std::vector<int> members = {6, 7, 8, 9, 10, 11};
+  ASSERT_FALSE(NegativeBins(s.tables, members, w.bottomRows(6)).empty()) << "the truth must go negative";
+  PhotoFitOptions free, bins;
+  free.constraint = WeightConstraint::Kind::kNone;
+  bins.constraint = WeightConstraint::Kind::kBins;
+  bins.constraint_stride = 7;  // most bins are not in the sample
+  const PhotoFit a = FitPhoto(s.basis, s.model, y, free, &s.tables);
+  const PhotoFit b = FitPhoto(s.basis, s.model, y, bins, &s.tables);
+  ASSERT_EQ(a.fit.chosen, 1);
+  ASSERT_EQ(b.fit.chosen, 1);
+  EXPECT_FALSE(NegativeBins(s.tables, members, a.fit.weights().bottomRows(6)).empty());
+  EXPECT_TRUE(NegativeBins(s.tables, members, b.fit.weights().bottomRows(6)).empty());
+  EXPECT_EQ(b.fit.classes[1].path, "nonneg-bins");
+  EXPECT_GT(b.relative_residual, a.relative_residual);
+  EXPECT_THROW(FitPhoto(s.basis, s.model, y, bins, nullptr), Error) << "the constraint needs the tables";
 }
 
 }  // namespace brdfshot

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fit/bin_constraints.h"
+#include "fit/nonneg.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -145,8 +147,21 @@ Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::
   return prior + cls.V[c] * d;
 }
 
+namespace {
+// (G_JJ + λ_j I)⁺ of channel c through the class's spectrum, with the floor of
+// SolveFromSpectrum: directions it leaves at the prior, this leaves alone.
+Eigen::MatrixXd SpectrumInverse(const ClassSpectrum& cls, int c, double lambda_j) {
+  const Eigen::VectorXd& e = cls.e[c];
+  const Eigen::Index k = e.size();
+  const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
+  Eigen::VectorXd inv(k);
+  for (Eigen::Index i = 0; i < k; ++i) inv[i] = e[i] + lambda_j > floor ? 1.0 / (e[i] + lambda_j) : 0.0;
+  return cls.V[c] * inv.asDiagonal() * cls.V[c].transpose();
+}
+}  // namespace
+
 ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
-                         double lambda) {
+                         double lambda, const WeightConstraint& constraint) {
   const Eigen::Index n = f[0].gram.rows();
   const std::vector<int>& J = cls.members;
   ClassSolution s;
@@ -165,19 +180,35 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
     s.lambda_j[c] = lj;
     const Eigen::VectorXd zJ = obs.z[c](J);
     Eigen::VectorXd w;
-    if (kappa > kMaxNormalCondition && f[c].has_qr() && obs.z_qr[c].size()) {
+    if (constraint.kind == WeightConstraint::Kind::kWeights) {
+      // ‖Y_J w − y‖² + λ_j‖w − μ'‖² = wᵀ(G_JJ + λ_j I)w − 2wᵀ(z_J + λ_j μ') + const.
+      Eigen::MatrixXd H = cls.gram[c];
+      H.diagonal().array() += lj;
+      w = SolveNonNegative(H, zJ + lj * prior).x;
+    } else if (kappa > kMaxNormalCondition && f[c].has_qr() && obs.z_qr[c].size()) {
       w = SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], lj, prior);
       worst = std::max(worst, 2);
     } else {
       w = SolveFromSpectrum(cls, c, zJ, lj);
       if (kappa > kMaxNormalCondition) worst = std::max(worst, 1);
     }
+    if (constraint.kind == WeightConstraint::Kind::kBins) {
+      BRDFSHOT_CHECK(constraint.bins && constraint.bins->cols() == static_cast<Eigen::Index>(J.size()),
+                     "the constraint's bins must be restricted to the class's members");
+      // (G_JJ + λ_j I)⁺ costs a k³ product: only when some bin is below zero.
+      if ((*constraint.bins * w).minCoeff() < 0)
+        w = ConstrainToNonNegativeBins(SpectrumInverse(cls, c, lj), w, *constraint.bins).w;
+    }
     // ‖Y_J w − y‖² = wᵀG_JJ w − 2 wᵀz_J + ‖y‖²: accurate to ~1e-16 ‖y‖², ample
     // for comparing classes.
     s.residual += std::max(0.0, w.dot(cls.gram[c] * w) - 2 * w.dot(zJ) + obs.norm2[c]);
     for (size_t k = 0; k < J.size(); ++k) s.weights(J[k], c) = w[k];
   }
-  s.path = worst == 2 ? "qr" : worst == 1 ? "normal-truncated" : "normal";
+  s.path = constraint.kind == WeightConstraint::Kind::kWeights ? "nonneg-weights"
+           : constraint.kind == WeightConstraint::Kind::kBins  ? "nonneg-bins"
+           : worst == 2                                        ? "qr"
+           : worst == 1                                        ? "normal-truncated"
+                                                               : "normal";
   return s;
 }
 

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/nbrdf.h"
+#include "util/eigen_types.h"
 
 namespace brdfshot {
 
@@ -89,7 +89,7 @@ struct ClassSolution {
   double residual = 0;                // Σ_c ‖Y_J w_c − y_c‖²
   std::array<double, 3> condition{};  // of the least-squares matrix [Y_J; √λ_j I] per channel
   std::array<double, 3> lambda_j{};   // the weight actually applied per channel
-  std::string path;                   // "normal", "qr" or "normal-truncated" (worst over channels)
+  std::string path;                   // "normal", "qr", "normal-truncated" (worst over channels), or the constraint's
   Eigen::MatrixXd weights;            // n × 3, zero outside the class
 };
 
@@ -108,9 +108,23 @@ ClasswiseFit SolveClasswise(const std::array<ChannelFactor, 3>& f, const std::ve
 ClasswiseFit SolveClasswise(const std::array<ChannelFactor, 3>& f, const Observation& obs,
                             const std::vector<std::vector<int>>& members, const SolveOptions& opt);
 
-// One class's solve over R, G, B at weight λ (λ_j = λ‖y_c‖²/c_j per channel).
+// What a class's solve keeps non-negative.
+struct WeightConstraint {
+  enum class Kind {
+    kNone,
+    kWeights,  // w ≥ 0 (fit/nonneg.h): the BRDF is non-negative everywhere, but only sums of bases fit
+    kBins,     // Σ w_i b_i ≥ 0 at sampled bins (fit/bin_constraints.h)
+  };
+  Kind kind = Kind::kNone;
+  // kBins: the tables' rows at the sampled bins, restricted to the class's
+  // members in their order (bins × members).
+  const Eigen::MatrixXd* bins = nullptr;
+};
+
+// One class's solve over R, G, B at weight λ (λ_j = λ‖y_c‖²/c_j per channel),
+// under `constraint` (path "nonneg-weights" / "nonneg-bins" when one applies).
 ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
-                         double lambda);
+                         double lambda, const WeightConstraint& constraint = {});
 
 // w_J = μ' + V diag(1/(e + λ_j)) Vᵀ (z_J − G_JJ μ') for channel c of a class:
 // the normal equations through the class's spectrum, any λ_j ≥ 0 (directions

@@ -1,0 +1,94 @@
+#include "fit/bin_constraints.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "fit/nonneg.h"
+#include "util/check.h"
+
+namespace brdfshot {
+
+Eigen::MatrixXd ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride) {
+  BRDFSHOT_CHECK(stride >= 1);
+  const Eigen::Index rows = (tables.rows() + stride - 1) / stride;
+  Eigen::MatrixXd out(rows, static_cast<Eigen::Index>(members.size()));
+  for (Eigen::Index i = 0; i < rows; ++i)
+    for (size_t k = 0; k < members.size(); ++k) out(i, static_cast<Eigen::Index>(k)) = tables(i * stride, members[k]);
+  return out;
+}
+
+std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ) {
+  BRDFSHOT_CHECK(wJ.rows() == static_cast<Eigen::Index>(members.size()) && wJ.cols() == 3);
+  const Eigen::Index rows = tables.rows();
+  std::vector<char> negative(rows, 0);
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    const float* row = tables.row(i).data();
+    for (int c = 0; c < 3; ++c) {
+      double value = 0, magnitude = 0;
+      for (size_t k = 0; k < members.size(); ++k) {
+        const double term = row[members[k]] * wJ(static_cast<Eigen::Index>(k), c);
+        value += term, magnitude += std::abs(term);
+      }
+      if (value < -kNegativeBinTolerance * magnitude) negative[i] = 1;
+    }
+  }
+  std::vector<int> out;
+  for (Eigen::Index i = 0; i < rows; ++i)
+    if (negative[i]) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, const Eigen::VectorXd& w0,
+                                                  const Eigen::MatrixXd& A, double tolerance, int max_rounds,
+                                                  int bins_per_round) {
+  const Eigen::Index k = w0.size();
+  BRDFSHOT_CHECK(K.rows() == k && K.cols() == k && A.cols() == k, "ConstrainToNonNegativeBins: sizes differ");
+  BinConstrainedSolution s;
+  s.w = w0;
+  if (A.rows() == 0 || k == 0) {
+    s.complete = true;
+    return s;
+  }
+  const Eigen::VectorXd v0 = A * w0;
+  const double threshold = -tolerance * std::max(v0.maxCoeff(), 1e-300);
+  std::vector<int> rows;             // the bins with a multiplier so far
+  std::vector<char> in(A.rows(), 0);
+  Eigen::VectorXd values = v0;
+  for (s.rounds = 0; s.rounds < max_rounds; ++s.rounds) {
+    std::vector<int> negative;
+    for (Eigen::Index i = 0; i < values.size(); ++i)
+      if (values[i] < threshold && !in[i]) negative.push_back(static_cast<int>(i));
+    if (negative.empty()) {
+      s.complete = true;  // bins in the set sit at zero up to the dual's rounding
+      break;
+    }
+    const size_t take = std::min<size_t>(negative.size(), static_cast<size_t>(bins_per_round));
+    std::partial_sort(negative.begin(), negative.begin() + take, negative.end(),
+                      [&](int a, int b) { return values[a] < values[b]; });
+    for (size_t i = 0; i < take; ++i) rows.push_back(negative[i]), in[negative[i]] = 1;
+    // The dual over the bins so far: Q = A_C K A_Cᵀ, its linear term A_C w₀.
+    const Eigen::MatrixXd Ac = A(rows, Eigen::all);
+    const Eigen::MatrixXd KAt = K * Ac.transpose();
+    const Eigen::MatrixXd Q = Ac * KAt;
+    const NonNegativeResult mu = SolveNonNegative(Q, -(Ac * w0));
+    s.w = w0 + KAt * mu.x;
+    s.active = static_cast<int>((mu.x.array() > 0).count());
+    values = A * s.w;
+  }
+  // The active bins sit at zero only up to the dual's rounding (~1e-11 of
+  // w₀'s scale), which is a visible "negative" wherever the whole fit is near
+  // zero. Tables are non-negative, so adding a multiple of the all-ones
+  // weights raises every bin: the smallest multiple that lifts them all is
+  // of rounding size and changes the fit by as little.
+  const Eigen::VectorXd lift = A.rowwise().sum();
+  double t = 0;
+  for (Eigen::Index i = 0; i < values.size(); ++i)
+    if (values[i] < 0 && lift[i] > 0) t = std::max(t, -values[i] / lift[i]);
+  if (t > 0 && t * std::sqrt(static_cast<double>(k)) <= 1e-6 * std::max(w0.norm(), 1e-300))
+    s.w.array() += 2 * t;
+  return s;
+}
+
+}  // namespace brdfshot

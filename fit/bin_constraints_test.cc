@@ -1,0 +1,103 @@
+#include "fit/bin_constraints.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace brdfshot {
+namespace {
+
+double Objective(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, const Eigen::VectorXd& w) {
+  return 0.5 * w.dot(H * w) - b.dot(w);
+}
+
+// The optimum by enumeration of active sets: for every subset S of the bins,
+// the minimiser with A_S w = 0 (its KKT system solved directly); the best of
+// those that keep every bin ≥ 0 is the constrained optimum.
+double BruteForceOptimum(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, const Eigen::MatrixXd& A) {
+  const int m = static_cast<int>(A.rows()), k = static_cast<int>(H.rows());
+  double best = std::numeric_limits<double>::infinity();
+  for (int mask = 0; mask < (1 << m); ++mask) {
+    std::vector<int> S;
+    for (int i = 0; i < m; ++i)
+      if (mask >> i & 1) S.push_back(i);
+    const int s = static_cast<int>(S.size());
+    Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(k + s, k + s);
+    kkt.topLeftCorner(k, k) = H;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + s);
+    rhs.head(k) = b;
+    for (int r = 0; r < s; ++r) kkt.block(k + r, 0, 1, k) = A.row(S[r]), kkt.block(0, k + r, k, 1) = A.row(S[r]).transpose();
+    const Eigen::VectorXd sol = kkt.completeOrthogonalDecomposition().solve(rhs);
+    const Eigen::VectorXd w = sol.head(k);
+    if ((kkt * sol - rhs).norm() > 1e-8 * (1 + rhs.norm())) continue;  // inconsistent system
+    if ((A * w).minCoeff() < -1e-9) continue;
+    best = std::min(best, Objective(H, b, w));
+  }
+  return best;
+}
+
+TEST(ConstrainToNonNegativeBins, LeavesAFeasibleSolutionAlone) {
+  const Eigen::MatrixXd H = Eigen::MatrixXd::Identity(3, 3);
+  const Eigen::VectorXd w0 = Eigen::Vector3d(1, 2, 0.5);
+  const Eigen::MatrixXd A = (Eigen::MatrixXd(2, 3) << 1, 0, 0, 0.5, 0.5, 1).finished();
+  const BinConstrainedSolution s = ConstrainToNonNegativeBins(H, w0, A);
+  EXPECT_TRUE(s.complete);
+  EXPECT_EQ(s.active, 0);
+  EXPECT_EQ(s.w, w0);
+}
+
+TEST(ConstrainToNonNegativeBins, MatchesEnumerationOfActiveSets) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  int constrained = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    const int k = 2 + trial % 4, m = 4 + trial % 5;
+    Eigen::MatrixXd X(k + 4, k);
+    for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = g(rng);
+    Eigen::MatrixXd H = X.transpose() * X;
+    H.diagonal().array() += 0.05;
+    Eigen::VectorXd b(k);
+    for (int i = 0; i < k; ++i) b[i] = g(rng);
+    // Non-negative "tables", as every database's are.
+    Eigen::MatrixXd A(m, k);
+    for (Eigen::Index i = 0; i < A.size(); ++i) A.data()[i] = u(rng);
+    const Eigen::MatrixXd K = H.inverse();
+    const Eigen::VectorXd w0 = K * b;
+    const BinConstrainedSolution s = ConstrainToNonNegativeBins(K, w0, A, 1e-12);
+    ASSERT_TRUE(s.complete) << trial;
+    EXPECT_GE((A * s.w).minCoeff(), -1e-9 * (A * w0).cwiseAbs().maxCoeff()) << trial;
+    const double best = BruteForceOptimum(H, b, A);
+    EXPECT_NEAR(Objective(H, b, s.w), best, 1e-8 * (1 + std::abs(best))) << trial;
+    constrained += (A * w0).minCoeff() < 0;
+  }
+  EXPECT_GT(constrained, 10) << "most trials must need the constraint for the test to mean anything";
+}
+
+TEST(ConstrainToNonNegativeBins, OppositeBinsPinTheWeightAtZero) {
+  // Bins w and −w can only both be ≥ 0 at w = 0, whatever the data want.
+  const Eigen::MatrixXd K = Eigen::MatrixXd::Identity(1, 1);
+  const Eigen::VectorXd w0 = Eigen::VectorXd::Constant(1, 3.0);
+  const Eigen::MatrixXd A = (Eigen::MatrixXd(2, 1) << 1, -1).finished();
+  const BinConstrainedSolution s = ConstrainToNonNegativeBins(K, w0, A);
+  EXPECT_TRUE(s.complete);
+  EXPECT_NEAR(s.w[0], 0.0, 1e-12);
+}
+
+TEST(ConstraintBins, TakesEveryStrideThRowOfTheMembers) {
+  MatrixXfR tables(5, 3);
+  tables << 0, 1, 2,
+            3, 4, 5,
+            6, 7, 8,
+            9, 10, 11,
+            12, 13, 14;
+  const Eigen::MatrixXd A = ConstraintBins(tables, {2, 0}, 2);
+  ASSERT_EQ(A.rows(), 3);
+  EXPECT_EQ(A, (Eigen::MatrixXd(3, 2) << 2, 0, 8, 6, 14, 12).finished());
+}
+
+}  // namespace
+}  // namespace brdfshot

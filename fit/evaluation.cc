@@ -1,0 +1,144 @@
+#include "fit/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "calib/sun_probe.h"
+#include "fit/class_model.h"
+#include "fit/lambda_choice.h"
+#include "fit/ood_eval.h"
+#include "util/check.h"
+#include "util/progress.h"
+
+namespace brdfshot {
+
+std::vector<LatLongProbe> DirectionalScoringProbes(int width) {
+  struct Sun {
+    const char* side;
+    double azimuth_deg;  // from the view direction (+z) towards +x
+  };
+  const Sun suns[] = {{"front", 0}, {"side", 90}, {"back", 160}};
+  // The sky's irradiance on an upward-facing patch (π L) is 3 % of the sun's.
+  const float sky = static_cast<float>(0.03 / kPi);
+  std::vector<LatLongProbe> out;
+  for (const double elevation : {15.0, 45.0})
+    for (const Sun& s : suns) {
+      const double el = elevation * kPi / 180, az = s.azimuth_deg * kPi / 180;
+      const Vec3 d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+      const LatLongProbe p = SunOverSkyProbe(d, cv::Vec3f(1, 1, 1), cv::Vec3f(sky, sky, sky), 2.0, width);
+      out.emplace_back(p.rgb(), std::string("sun-") + s.side + "-" + std::to_string(static_cast<int>(elevation)));
+    }
+  return out;
+}
+
+namespace {
+void GroupMaterials(const BasisDatabase& base, const BasisDatabase& targets, const LooInputs& in,
+                    const GmmOptions& gmm, Evaluation* ev) {
+  if (!targets.materials.empty()) {
+    ev->group_kind = "family";
+    for (size_t m = 0; m < targets.materials.size(); ++m) {
+      const std::string fam = m < targets.families.size() ? targets.families[m] : "all";
+      auto it = std::find(ev->groups.begin(), ev->groups.end(), fam);
+      if (it == ev->groups.end()) ev->groups.push_back(fam), it = ev->groups.end() - 1;
+      ev->group_of[targets.materials[m]] = static_cast<int>(it - ev->groups.begin());
+    }
+    return;
+  }
+  ev->group_kind = "class";
+  const ClassModel full = BuildClassModel(in.gram, gmm);
+  ev->class_sizes = ClassSizes(full);
+  for (int k = 0; k < full.classes(); ++k) ev->groups.push_back("class " + std::to_string(k));
+  for (int m = 0; m < base.num_materials(); ++m) {
+    // The majority of the three channels' classes (the lowest on a three-way tie).
+    std::map<int, int> votes;
+    for (int c = 0; c < 3; ++c) votes[full.label[3 * m + c]]++;
+    ev->group_of[base.materials[m]] =
+        std::max_element(votes.begin(), votes.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+  }
+}
+}  // namespace
+
+Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt) {
+  if (opt.probes.size() < 2) throw Error("the evaluation needs at least two probes: one to fit, one to score under");
+  Stopwatch total;
+  Evaluation ev;
+  const BasisDatabase base = LoadDatabase(db);
+  ev.database_label = base.label;
+  ev.grid = base.grid;
+  ev.seconds_database = total.Seconds();
+
+  Stopwatch sw;
+  LooInputs in;
+  in.materials = base.materials;
+  {
+    DatabaseOptions gopt = db;
+    gopt.progress = false;
+    DatabaseGrams grams = LoadDatabaseGrams(gopt);
+    in.gram = std::move(grams.gram);
+    in.gram_cos = std::move(grams.gram_cos);
+  }
+  if (opt.loo.constraint == WeightConstraint::Kind::kBins)
+    in.constraint_sample = SampleBins(base.B, opt.constraint_stride);
+  if (opt.count_negative_bins) {
+    in.bin_sample = SampleBins(base.B, 9 * opt.constraint_stride, opt.constraint_stride / 2);
+    ev.lowest_basis_value = in.bin_sample.size() ? in.bin_sample.minCoeff() : 0.0f;
+  }
+  ev.seconds_grams = sw.Seconds();
+
+  BasisDatabase targets;
+  const bool ood = !opt.targets_kind.empty();
+  if (ood) {
+    DatabaseOptions topt = db;
+    topt.kind = opt.targets_kind;
+    if (!opt.targets_data.empty()) topt.data_root = opt.targets_data;
+    topt.grid = base.grid;
+    topt.only.clear(), topt.exclude.clear(), topt.max_materials = 0;
+    targets = LoadDatabase(topt);
+    ev.targets_label = targets.label;
+  }
+  ev.materials = ood ? targets.materials : base.materials;
+  GroupMaterials(base, targets, in, opt.loo.gmm, &ev);
+
+  const PixelGeometry geometry = OrthographicSphere(opt.sphere, opt.margin);
+  ev.pixels = geometry.size();
+  const std::vector<int> fold_of_pixel = WedgeFolds(geometry, opt.folds);
+  const std::vector<int> one_fold(geometry.size(), 0);
+  std::vector<LatLongProbe> scenes = opt.probes;
+  const size_t fitted = scenes.size();
+  if (opt.directional)
+    for (LatLongProbe& p : DirectionalScoringProbes()) scenes.push_back(std::move(p));
+  std::vector<TargetScene> target_scenes;
+  Stopwatch bw;
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    Stopwatch ps;
+    const bool scoring_only = i >= fitted;
+    const TransportOperator t = TransportOperator::Build(geometry, scenes[i], base.grid, opt.quality);
+    SceneFactors s;
+    s.probe = scenes[i].name();
+    s.scoring_only = scoring_only;
+    s.pixels = geometry.size();
+    const std::array<MatrixXfR, 3> Y = t.Apply(base.B);
+    s.f = FactorBasisImages(Y, !scoring_only);
+    if (!scoring_only) s.fold_gram = FoldGrams(Y, fold_of_pixel, opt.folds);
+    if (ood)
+      target_scenes.push_back(scoring_only ? MakeTargetScene(s.f, Y, t.Apply(targets.B), one_fold, 1)
+                                           : MakeTargetScene(s.f, Y, t.Apply(targets.B), fold_of_pixel, opt.folds));
+    (scoring_only ? ev.directional_probes : ev.probes).push_back(s.probe);
+    in.scenes.push_back(std::move(s));
+    if (opt.progress)
+      std::fprintf(stderr, "basis images: %s, %zu pixels x %d bases, %d theta_o levels, %.2f s\n",
+                   scenes[i].name().c_str(), geometry.size(), base.num_bases(), t.levels(), ps.Seconds());
+  }
+  ev.seconds_basis = bw.Seconds();
+
+  LooOptions loo = opt.loo;
+  loo.progress = opt.progress;
+  Stopwatch fw;
+  ev.result = ood ? RunOutOfDatabase(in, target_scenes, targets.materials, loo) : RunLeaveOneOut(in, loo);
+  ev.seconds_fits = fw.Seconds();
+  ev.seconds_total = total.Seconds();
+  return ev;
+}
+
+}  // namespace brdfshot
