@@ -9,6 +9,7 @@
 
 #include "apps/command.h"
 #include "apps/common_options.h"
+#include "calib/calibration.h"
 #include "calib/mirror_ball.h"
 #include "calib/probe_alignment.h"
 #include "calib/probe_layout.h"
@@ -165,16 +166,19 @@ int CalibMain(int argc, char** argv) {
     const std::array<double, 3> ypr = rot.ToYawPitchRoll();
     a = {ypr[0], ypr[1], ypr[2]};
   }
-  nlohmann::json j = {{"format", "brdfshot-calib-1"}, {"source", probe_path}, {"layout", layout}};
+  Calibration cal;
+  cal.source = probe_path;
+  cal.layout = layout;
+  nlohmann::json& j = cal.provenance;
   LatLongProbe probe;
   if (!sun.empty()) {
     const std::vector<double> d = ParseNumberList(sun, 3, "--sun", "x,y,z");
     const std::vector<double> e = ParseNumberList(sun_radiance, 3, "--sun-radiance", "R,G,B");
     probe = SunProbe(Vec3(d[0], d[1], d[2]), cv::Vec3f(e[0], e[1], e[2]), sun_deg, width > 0 ? width : 512);
-    j["source"] = "sun " + sun;
-    j["layout"] = "sun";
+    cal.source = "sun " + sun;
+    cal.layout = "sun";
     j["sun"] = {{"direction", d}, {"irradiance", e}, {"radius_deg", sun_deg}};
-    probe_path = j["source"];
+    probe_path = cal.source;
   } else if (layout == "latlong") {
     probe = LatLongProbe::Read(probe_path);
     if (width > 0) probe = probe.Resized(width);
@@ -234,12 +238,12 @@ int CalibMain(int argc, char** argv) {
                    photo_merge.c_str(), probe_merge.c_str(), 100 * rs.spread);
   }
   WriteExr(out, probe.rgb());
-  j["probe"] = out;
-  j["width"] = probe.width();
-  j["rotation_camera_to_probe"] = rot.m;
-  j["yaw_pitch_roll_deg"] = {a[0], a[1], a[2]};
-  j["scale"] = {scale[0], scale[1], scale[2]};
-  WriteFileAtomic(sidecar, [&](std::ostream& s) { s << j.dump(1) << "\n"; });
+  cal.probe = out;
+  cal.width = probe.width();
+  cal.camera_to_probe = rot;
+  cal.yaw_pitch_roll_deg = {a[0], a[1], a[2]};
+  cal.scale = scale;
+  cal.Write(sidecar);
   std::printf("probe %s (%s) -> %dx%d lat-long; rotation yaw %.2f pitch %.2f roll %.2f deg, scale %g %g %g\n"
               "wrote %s, %s\n",
               probe_path.c_str(), layout.c_str(), probe.width(), probe.height(), a[0], a[1], a[2], scale[0], scale[1],

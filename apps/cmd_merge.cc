@@ -10,6 +10,7 @@
 #include <opencv2/photo.hpp>
 
 #include "apps/command.h"
+#include "capture/merge_sidecar.h"
 #include "apps/common_options.h"
 #include "capture/exposure.h"
 #include "capture/align.h"
@@ -254,12 +255,21 @@ int MergeMain(int argc, char** argv) {
   WriteFileAtomicByName(mask_out, [&](const std::string& tmp) {
     if (!cv::imwrite(tmp, m.mask)) throw FileError(tmp, "cannot write mask");
   });
-  const nlohmann::json side = {{"format", "brdfshot-merge-1"}, {"frames", frames_json}, {"camera", camera},
-                               {"focal_35mm", focal_35mm}, {"response", response.ToJson()}, {"raw", raw}, {"aligned", align},
-                               {"unreliable_fraction", m.unreliable_fraction}, {"clip_reach", clip_reach}, {"output", out},
-                               {"mask", mask_out}, {"half", half},
-                               {"response_plot", plotted ? plot_out : ""}, {"command", CommandLine(argc, argv)}};
-  WriteFileAtomic(sidecar, [&](std::ostream& o) { o << side.dump(1) << "\n"; });
+  MergeSidecar side;
+  side.frames = frames_json;
+  side.camera = camera;
+  side.focal_35mm = focal_35mm;
+  side.response = response;
+  side.raw = raw;
+  side.aligned = align;
+  side.unreliable_fraction = m.unreliable_fraction;
+  side.clip_reach = clip_reach;
+  side.output = out;
+  side.mask = mask_out;
+  side.half = half;
+  side.response_plot = plotted ? plot_out : "";
+  side.command = CommandLine(argc, argv);
+  side.Write(sidecar);
   std::printf("merged %zu frames (%dx%d, %s) in %.2f s: %.2f %% of pixels unreliable\nwrote %s, %s, %s\n",
               files.size(), frames[0].cols, frames[0].rows, raw ? "RAW" : response.kind.c_str(), sw.Seconds(),
               100 * m.unreliable_fraction, out.c_str(), mask_out.c_str(), sidecar.c_str());

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/command.h"
+#include "capture/merge_sidecar.h"
 #include "apps/common_options.h"
 #include "normals/sphere_detect.h"
 #include "normals/sphere_view.h"
@@ -18,20 +19,6 @@
 namespace brdfshot {
 namespace po = boost::program_options;
 
-namespace {
-// The 35 mm-equivalent focal length a merge sidecar recorded from its frames'
-// EXIF (0 when the camera did not write one, or the sidecar predates it).
-double MergeSidecarFocal35mm(const std::string& path) {
-  const nlohmann::json j = ReadJsonFile(path);
-  if (!j.is_object() || !j.contains("format") || j["format"] != "brdfshot-merge-1")
-    throw FileError(path, "not a brdfshot merge sidecar");
-  if (!j.contains("focal_35mm")) return 0;
-  const nlohmann::json& f = j["focal_35mm"];
-  if (!f.is_number() || !(f.get<double>() >= 0 && f.get<double>() < 1e4))
-    throw FileError(path, "focal_35mm must be a focal length in mm (0: unknown)");
-  return f.get<double>();
-}
-}  // namespace
 
 int NormalsMain(int argc, char** argv) {
   std::string photo_path, out = "sphere.json", overlay;
@@ -72,7 +59,7 @@ int NormalsMain(int argc, char** argv) {
   }
   std::string focal_from = o.focal_px > 0 || focal_35mm > 0 ? "as given" : "";
   if (focal_from.empty() && !merge_sidecar.empty()) {
-    focal_35mm = MergeSidecarFocal35mm(merge_sidecar);
+    focal_35mm = MergeSidecar::Read(merge_sidecar).focal_35mm;
     if (focal_35mm > 0) focal_from = "from the EXIF 35 mm focal length in " + merge_sidecar;
   }
   o.focal_px = FocalLengthPx(o.focal_px, focal_35mm, rgb.size());

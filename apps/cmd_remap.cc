@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "apps/command.h"
+#include "calib/calibration.h"
 #include "normals/normal_map.h"
 #include "normals/observation.h"
 #include "normals/sphere_view.h"
@@ -87,19 +88,10 @@ int RemapMain(int argc, char** argv) {
   cv::Vec3d scale(1, 1, 1);
   std::string probe_name;  // provenance only; without --calib the photo is taken as in the probe frame
   if (!calib_path.empty()) {
-    const nlohmann::json calib = ReadJsonFile(calib_path);
-    try {
-      if (calib.at("format") != "brdfshot-calib-1") throw FileError(calib_path, "not a brdfshot calibration");
-      rot.m = calib.at("rotation_camera_to_probe").get<decltype(rot.m)>();
-      // One number (older sidecars) or R,G,B.
-      const nlohmann::json& js = calib.at("scale");
-      for (int c = 0; c < 3; ++c) scale[c] = js.is_array() ? js.at(c).get<double>() : js.get<double>();
-      probe_name = calib.value("probe", "");
-    } catch (const nlohmann::json::exception& e) {
-      throw FileError(calib_path, std::string("incomplete calibration: ") + e.what());
-    }
-    if (rot.OrthonormalityError() > 1e-6) throw FileError(calib_path, "rotation is not orthonormal");
-    if (!(scale[0] > 0 && scale[1] > 0 && scale[2] > 0)) throw FileError(calib_path, "scale must be positive");
+    const Calibration calib = Calibration::Read(calib_path);
+    rot = calib.camera_to_probe;
+    scale = calib.scale;
+    probe_name = calib.probe;
   }
   cv::Mat unreliable;
   if (!unreliable_path.empty()) {

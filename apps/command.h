@@ -13,6 +13,9 @@ struct Command {
   const char* name;
   const char* summary;
   std::function<int(int argc, char** argv)> run;
+  // Benchmarks and the evaluation: listed apart from the stages a user runs
+  // (docs/benchmarks.md).
+  bool developer_tool = false;
 };
 
 const std::vector<Command>& Commands();

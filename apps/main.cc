@@ -31,10 +31,10 @@ const std::vector<Command>& Commands() {
       {"fit", "fit a photo: class-wise regularised solve, BRDF + previews", FitMain},
       {"report", "one capture's results as markdown + pictures: photo, sphere, class and residuals, relit vs truth, stage times", ReportMain},
       {"compare", "relative RMSE of one linear image against a reference", CompareMain},
-      {"bench-merge", "HDR merge against ground truth, beside OpenCV's Debevec and Robertson", BenchMergeMain},
-      {"bench-detect", "sphere detection vs known truth, beside OpenCV HoughCircles alone (error and time)", BenchDetectMain},
-      {"bench-basis", "basis images: speed against error vs a cached converged reference", BenchBasisMain},
-      {"eval", "leave-one-out evaluation against least squares, the paper and the oracle", EvalMain},
+      {"bench-merge", "HDR merge against ground truth, beside OpenCV's Debevec and Robertson", BenchMergeMain, true},
+      {"bench-detect", "sphere detection vs known truth, beside OpenCV HoughCircles alone (error and time)", BenchDetectMain, true},
+      {"bench-basis", "basis images: speed against error vs a cached converged reference", BenchBasisMain, true},
+      {"eval", "the fit on unseen lighting and materials, against its baselines (evaluation sets a and b)", EvalMain, true},
   };
   return kCommands;
 }
@@ -76,7 +76,11 @@ bool ParseOptions(const std::string& command, const std::string& usage, po::opti
 static void PrintUsage() {
   std::printf("brdfshot — BRDF from one photo of a sphere under known lighting\n\n"
               "usage: brdfshot <command> [options]   (brdfshot <command> --help)\n\ncommands:\n");
-  for (const auto& c : brdfshot::Commands()) std::printf("  %-14s %s\n", c.name, c.summary);
+  for (const auto& c : brdfshot::Commands())
+    if (!c.developer_tool) std::printf("  %-14s %s\n", c.name, c.summary);
+  std::printf("\ndeveloper tools (benchmarks and the evaluation, docs/benchmarks.md):\n");
+  for (const auto& c : brdfshot::Commands())
+    if (c.developer_tool) std::printf("  %-14s %s\n", c.name, c.summary);
 }
 
 // With BRDFSHOT_TIME_LOG set, each successful command appends one line

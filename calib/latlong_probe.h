@@ -1,5 +1,5 @@
 // A distant-light environment in latitude-longitude layout, the probe frame of the
-// whole pipeline. Convention (documented in README "Frames"): +Y is up; row 0 is
+// whole pipeline. Convention (documented in docs/formats.md "Frames"): +Y is up; row 0 is
 // the zenith; the map's horizontal centre looks along −Z; +X is to the right of
 // that centre. A camera at +Z looking down −Z sees the middle of the map behind
 // the object.

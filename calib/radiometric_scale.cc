@@ -6,6 +6,7 @@
 #include <vector>
 #include <string>
 
+#include "capture/merge_sidecar.h"
 #include "capture/response.h"
 #include "util/check.h"
 
@@ -68,43 +69,12 @@ RadiometricScale ScaleFromReferenceCard(const cv::Mat& photo, const ReferenceCar
   return s;
 }
 
-namespace {
-struct MergeSidecar {
-  bool raw = false;
-  std::string camera;
-  cv::Vec3d wb{1, 1, 1};
-  ResponseCurve response;
-};
-
-MergeSidecar ReadMergeSidecar(const nlohmann::json& j, const std::string& source) {
-  MergeSidecar m;
-  try {
-    if (j.at("format") != "brdfshot-merge-1") throw FileError(source, "not a brdfshot merge sidecar");
-    m.raw = j.at("raw");
-    m.camera = j.value("camera", "");
-    const nlohmann::json& frames = j.at("frames");
-    if (frames.empty()) throw FileError(source, "lists no frames");
-    if (m.raw) {
-      const nlohmann::json& wb = frames.at(0).at("wb");
-      for (int c = 0; c < 3; ++c) m.wb[c] = wb.at(c);
-      for (const nlohmann::json& f : frames)
-        for (int c = 0; c < 3; ++c)
-          if (f.at("wb").at(c).get<double>() != m.wb[c])
-            throw FileError(source, "frames of one bracket with different white balance");
-      if (!(m.wb[0] > 0 && m.wb[1] > 0 && m.wb[2] > 0)) throw FileError(source, "white balance must be positive");
-    }
-    m.response = ResponseCurve::FromJson(j.at("response"), source);
-  } catch (const nlohmann::json::exception& e) {
-    throw FileError(source, std::string("incomplete merge sidecar: ") + e.what());
-  }
-  return m;
-}
-}  // namespace
 
 RadiometricScale ScaleFromMergeSidecars(const nlohmann::json& photo_json, const std::string& photo_source,
                                         const nlohmann::json& probe_json, const std::string& probe_source) {
-  const MergeSidecar photo = ReadMergeSidecar(photo_json, photo_source);
-  const MergeSidecar probe = ReadMergeSidecar(probe_json, probe_source);
+  const MergeSidecar photo = MergeSidecar::FromJson(photo_json, photo_source);
+  const MergeSidecar probe = MergeSidecar::FromJson(probe_json, probe_source);
+  const cv::Vec3d photo_wb = photo.WhiteBalance(photo_source), probe_wb = probe.WhiteBalance(probe_source);
   if (!photo.camera.empty() && !probe.camera.empty() && photo.camera != probe.camera)
     throw FileError(photo_source, "is from camera '" + photo.camera + "', " + probe_source + " from '" +
                                       probe.camera + "': exposure metadata cannot relate two cameras' "
@@ -115,7 +85,7 @@ RadiometricScale ScaleFromMergeSidecars(const nlohmann::json& photo_json, const 
                                       ": their processing differs; measure the scale on a reference card (--card)");
   RadiometricScale s;
   if (photo.raw) {
-    for (int c = 0; c < 3; ++c) s.scale[c] = photo.wb[c] / probe.wb[c];
+    for (int c = 0; c < 3; ++c) s.scale[c] = photo_wb[c] / probe_wb[c];
     return s;
   }
   if (photo.response.levels != probe.response.levels)

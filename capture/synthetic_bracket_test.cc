@@ -74,9 +74,10 @@ TEST(SyntheticBracket, MergeRecoversRadianceThroughAnUnknownResponse) {
 
 // Real data: night.exr (mostly dark, a few lamps) through the default camera,
 // 9 frames 1 EV apart, as bench-merge shoots it. Much of the sky is measured
-// well by the longest frame alone; Robertson's refinement used to take those
-// samples as evidence about the curve, and its dark codes drifted (median
-// error 1.45 %, 95th pct 6.4 %, against 0.66 % and 1.9 % now).
+// well by the longest frame alone. Such samples say nothing about the curve:
+// taken as evidence by Robertson's refinement they let its dark codes drift
+// (median error 1.45 %, 95th pct 6.4 %, against 0.66 % and 1.9 % when only
+// samples another frame pins count).
 TEST(SyntheticBracket, ResponseDoesNotDriftWhereOneFrameAloneMeasures) {
   const std::string path = DataPath("envmaps/night.exr");
   if (path.empty()) GTEST_SKIP() << "envmaps/night.exr not found (BRDFSHOT_DATA or ../shared)";

@@ -1,4 +1,4 @@
-// Numerically hard scenes (DESIGN.md "Stability"), end to end through the
+// Numerically hard scenes (docs/benchmarks.md, "Numerically hard scenes"), end to end through the
 // fit stage: basis images → class model → class-wise solve, leave-one-out on
 // the demo stand-in database (samples/assets, always in the repository).
 //
@@ -7,7 +7,7 @@
 // under the studio probe turned by 90°, against the true material's) within a
 // stated factor of the same fit on an easy scene — a 64-pixel sphere, material
 // of normal brightness, studio lighting. The bounds were set from measured
-// values with margin; the measured values are in README "Numerically hard
+// values with margin; the measured values are in docs/benchmarks.md "Numerically hard
 // scenes".
 #include <gtest/gtest.h>
 
@@ -250,7 +250,7 @@ TEST(HardScenes, LambdaToZeroWithExactlyCollinearBases) {
 // (the class mean, 1/c_j per basis) is in absolute units while λ_j = λ‖y‖²/c_j
 // scales with the data, so for a dark material the pull towards the mean
 // fades as its brightness squared: the fit of s·y is s times the λ → 0 fit.
-// Documented, not "fixed" (README "Numerically hard scenes"); the test pins it.
+// Documented, not "fixed" (docs/benchmarks.md "Numerically hard scenes"); the test pins it.
 TEST(HardScenes, NearlyBlackMaterialIsFittedAsLambdaToZero) {
   REQUIRE_WORLD();
   for (size_t k = 0; k < mats.size(); ++k) {

@@ -88,7 +88,7 @@ TEST(MerlBrdf, LookupMatchesTheAnalyticBrdfAtLatticePoints) {
 TEST(MerlBrdf, LookupBetweenBinsIsWithinStatedTolerance) {
   // Between lattice points the table is trilinear in (√θ_h, θ_d, φ_d). For smooth
   // (diffuse / plastic) materials away from grazing angles the error against the
-  // closed form is below 2 %; stated in README "MERL tables".
+  // closed form is below 2 %; stated in docs/formats.md "MERL tables".
   const auto table = Table();
   if (table.empty()) GTEST_SKIP() << "no stand-in table";
   for (const char* family : {"diffuse", "plastic"}) {

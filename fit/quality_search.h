@@ -1,7 +1,7 @@
 // Choosing the basis images' quality from an error target, on the user's own scene.
 //
 // The default RenderQuality was chosen from measurements on three probes
-// (README, `brdfshot bench-basis`). A user's probe can be harder — a smaller,
+// (docs/benchmarks.md, `brdfshot bench-basis`). A user's probe can be harder — a smaller,
 // brighter sun, a sharp window edge — and the error of a half-vector quadrature
 // is not even monotone in its sample counts, so a setting cannot be predicted
 // from the probe's statistics. Instead this measures: it renders a few materials

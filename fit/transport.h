@@ -49,7 +49,7 @@ namespace brdfshot {
 struct RenderQuality {
   // 32 × 48 is the cheapest setting with every class's worst basis image
   // within 1 % of the converged reference for a 256² sphere under the forest
-  // and sunset probes at 512 × 256 (README, `brdfshot bench-basis`); 30 along
+  // and sunset probes at 512 × 256 (docs/benchmarks.md, `brdfshot bench-basis`); 30 along
   // √θ_h is markedly worse than 28 or 32 on both probes, so do not interpolate.
   // Smaller spheres and 1024-wide probes are at 1.2–1.8 % (a grazing-pixel
   // bias, not the sample count): `basis --error-target` measures a scene and

@@ -104,4 +104,10 @@ nlohmann::json ReadJsonFile(const std::string& path) {
   }
 }
 
+bool HasFormat(const nlohmann::json& j, const char* format) {
+  if (!j.is_object()) return false;
+  const auto it = j.find("format");
+  return it != j.end() && it->is_string() && it->get<std::string>() == format;
+}
+
 }  // namespace brdfshot

@@ -29,4 +29,8 @@ std::string ReadFileBytes(const std::string& path);
 // file if it cannot be read or is not JSON.
 nlohmann::json ReadJsonFile(const std::string& path);
 
+// Whether `j` is an object whose "format" is the string `format` (false for
+// any other shape, never an exception).
+bool HasFormat(const nlohmann::json& j, const char* format);
+
 }  // namespace brdfshot

@@ -1,7 +1,9 @@
 // The JSON files the stages read: class model, sphere file, response curve,
-// merge sidecar (calib's scale from exposure metadata) — through the same file
-// reader the commands use (ReadJsonFile).
+// merge sidecar (and calib's scale from exposure metadata), calibration —
+// through the same file reader the commands use (ReadJsonFile).
+#include "calib/calibration.h"
 #include "calib/radiometric_scale.h"
+#include "capture/merge_sidecar.h"
 #include "capture/response.h"
 #include "fit/class_model.h"
 #include "normals/sphere_view.h"
@@ -27,6 +29,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   try {
     brdfshot::ResponseCurve::FromJson(j, path);
+  } catch (const brdfshot::Error&) {
+  }
+  try {
+    brdfshot::MergeSidecar::FromJson(j, path).WhiteBalance(path);
+  } catch (const brdfshot::Error&) {
+  }
+  try {
+    brdfshot::Calibration::FromJson(j, path);
   } catch (const brdfshot::Error&) {
   }
   try {
