@@ -7,6 +7,7 @@
 
 #include <random>
 
+#include "fit/bin_constraints.h"
 #include "fit/lambda_choice.h"
 #include "fit/solver.h"
 #include "normals/sphere_geometry.h"
@@ -113,6 +114,39 @@ void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: GC
   }
 }
 BENCHMARK(BM_SolveWithLambdaChoice)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The default's non-negative constraint: 47 k sampled bins of a table (every
+// 31st of the 1.46 M), non-negative and heavy-tailed as BRDFs are; the bins
+// restricted to each class are photo-independent and built outside the loop.
+void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
+  const Problem& p = TheProblem();
+  const std::vector<int> fold = WedgeFolds(p.g, 6);
+  const auto f = FactorBasisImages(p.Y, false);
+  const auto classes = FactorClasses(f, p.members);
+  const CvSystem cv = FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(0, 1);
+  const MatrixXfR tables = MatrixXfR::NullaryExpr(47000, 300, [&]() { const float v = u(rng); return v * v * v * v; });
+  std::vector<Eigen::MatrixXd> class_bins;
+  for (const auto& J : p.members) class_bins.push_back(ConstraintBins(tables, J, 1));
+  int negative_before = 0;
+  for (auto _ : state) {
+    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
+    const Observation obs = SumObservations(held);
+    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), LambdaChoiceOptions{});
+    WeightConstraint constraint;
+    constraint.kind = WeightConstraint::Kind::kBins;
+    constraint.bins = &class_bins[ch.chosen_class];
+    benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda, constraint));
+    if (negative_before == 0) {
+      const ClassSolution free = SolveClass(f, classes[ch.chosen_class], obs, ch.lambda);
+      const Eigen::MatrixXd wJ = free.weights(classes[ch.chosen_class].members, Eigen::all);
+      negative_before = static_cast<int>(((class_bins[ch.chosen_class] * wJ).array() < 0).count());
+    }
+  }
+  state.counters["bin_channels_below_zero_unconstrained"] = negative_before;
+}
+BENCHMARK(BM_SolveWithLambdaChoiceAndBinConstraint)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SolveQrRoute(benchmark::State& state) {  // COD of [R_J; √λ_j I] per class and channel
   const Problem& p = TheProblem();
