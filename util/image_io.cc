@@ -22,12 +22,13 @@
 
 namespace brdfshot {
 
-namespace {
 std::string LowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   return ext;
 }
+
+namespace {
 
 // The data window's size, or a FileError when no real image has it: any
 // compression keeps well under 4096 pixels per byte, so past 16 MP a window

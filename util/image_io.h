@@ -13,6 +13,9 @@ namespace brdfshot {
 // NaN/Inf pixel (a probe with NaN would silently poison every basis image).
 cv::Mat ReadHdrImage(const std::string& path);
 
+// ".exr" of "a/B.EXR": the extension, lower-cased, with its dot ("" when none).
+std::string LowerExtension(const std::string& path);
+
 // RGB EXR (ZIP compressed), written atomically. Half floats halve the file and
 // keep 11 bits of mantissa over ~30 stops (6e-5 to 65504): enough for a merged
 // photo, not for values outside that range (they saturate to ±inf, so the

@@ -1,0 +1,168 @@
+#include "capture/bracket.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "capture/align.h"
+#include "capture/clipping.h"
+#include "capture/exposure.h"
+#include "capture/orientation.h"
+#include "capture/raw.h"
+#include "util/check.h"
+#include "util/image_io.h"
+#include "util/progress.h"
+
+namespace brdfshot {
+namespace fs = std::filesystem;
+
+bool IsRawFile(const std::string& path) {
+  const std::string e = LowerExtension(path);
+  for (const char* r : {".kdc", ".cr2", ".cr3", ".nef", ".arw", ".dng", ".raf", ".orf", ".rw2", ".pef", ".srw"})
+    if (e == r) return true;
+  return false;
+}
+
+bool IsJpegFile(const std::string& path) {
+  const std::string e = LowerExtension(path);
+  return e == ".jpg" || e == ".jpeg";
+}
+
+std::vector<std::string> ExpandBracketInputs(const std::vector<std::string>& paths) {
+  std::vector<std::string> files;
+  for (const std::string& a : paths) {
+    std::error_code ec;
+    if (fs::is_directory(a, ec)) {
+      std::vector<std::string> in_dir;
+      for (const auto& e : fs::directory_iterator(a)) {
+        const std::string p = e.path().string(), ext = LowerExtension(p);
+        if (ext == ".jpg" || ext == ".jpeg" || ext == ".png" || ext == ".tif" || ext == ".tiff" || IsRawFile(p))
+          in_dir.push_back(p);
+      }
+      std::sort(in_dir.begin(), in_dir.end());
+      files.insert(files.end(), in_dir.begin(), in_dir.end());
+    } else {
+      if (!fs::exists(a, ec)) throw FileError(a, "no such file");
+      files.push_back(a);
+    }
+  }
+  return files;
+}
+
+Bracket ReadBracket(const std::vector<std::string>& files, const BracketReadOptions& opt) {
+  if (files.empty()) throw Error("merge: no frames given");
+  Bracket b;
+  b.files = files;
+  b.exposure.assign(files.size(), 0);
+  b.raw = IsRawFile(files[0]);
+  Progress progress("reading frames", files.size(), opt.progress);
+  for (size_t j = 0; j < files.size(); ++j) {
+    const std::string& f = files[j];
+    if (IsRawFile(f) != b.raw) throw FileError(f, "mixes RAW and non-RAW frames in one bracket");
+    cv::Mat rgb;
+    ExifInfo exif;
+    if (b.raw) {
+      const RawFrame r = ReadRaw(f, opt.white_balance_given ? &opt.white_balance : nullptr);
+      rgb = r.rgb16;
+      exif.exposure_time = r.exposure_time;
+      exif.f_number = r.f_number;
+      exif.iso = r.iso;
+      exif.camera = r.camera;
+      exif.focal_35mm = r.focal_35mm;
+      b.records.push_back({{"file", f}, {"black", r.black}, {"white", r.white}, {"wb", r.wb}});
+    } else {
+      const cv::Mat bgr = cv::imread(f, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
+      if (bgr.empty()) throw FileError(f, "cannot decode image");
+      b.jpeg = b.jpeg || IsJpegFile(f);
+      if (bgr.depth() != CV_8U && bgr.depth() != CV_16U) throw FileError(f, "frames must be 8- or 16-bit");
+      cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+      try {
+        exif = ReadExif(f);
+      } catch (const Error&) {
+        if (opt.times_path.empty()) throw;  // with a times file the metadata is not needed (e.g. PPM frames)
+      }
+      rgb = ApplyExifOrientation(rgb, exif.orientation);
+      b.records.push_back({{"file", f}, {"orientation", exif.orientation}});
+    }
+    b.exposure[j] = exif.RelativeExposure();
+    b.records.back()["exif_exposure"] = b.exposure[j];
+    if (b.camera.empty()) b.camera = exif.camera;
+    if (!(b.focal_35mm > 0)) b.focal_35mm = exif.focal_35mm;
+    b.frames.push_back(rgb);
+    progress.Step();
+  }
+  if (!opt.times_path.empty()) {
+    b.exposure = ReadTimesFile(opt.times_path, files.size());
+  } else if (files.size() == 1 && !(b.exposure[0] > 0)) {
+    b.exposure[0] = 1;  // one linear frame: radiance in its own units (calib's scale relates them to the probe)
+  } else {
+    for (size_t j = 0; j < files.size(); ++j)
+      if (!(b.exposure[j] > 0))
+        throw FileError(files[j], "has no EXIF exposure time: pass --times FILE (one time per frame)");
+  }
+  for (size_t j = 0; j < files.size(); ++j) {
+    b.records[j]["exposure"] = b.exposure[j];
+    if (b.frames[j].size() != b.frames[0].size())
+      throw FileError(files[j], "is " + std::to_string(b.frames[j].cols) + "x" + std::to_string(b.frames[j].rows) +
+                                    ", " + files[0] + " is " + std::to_string(b.frames[0].cols) + "x" +
+                                    std::to_string(b.frames[0].rows));
+  }
+  return b;
+}
+
+void CheckBracketMeasured(const Bracket& b) {
+  size_t shortest = 0, longest = 0;
+  for (size_t j = 0; j < b.files.size(); ++j) {
+    if (b.exposure[j] < b.exposure[shortest]) shortest = j;
+    if (b.exposure[j] > b.exposure[longest]) longest = j;
+  }
+  const double top = b.frames[0].depth() == CV_8U ? 255 : 65535;
+  const cv::Mat short_codes = b.frames[shortest].reshape(1), long_codes = b.frames[longest].reshape(1);
+  if (cv::countNonZero(short_codes >= 0.98 * top) > 0.999 * short_codes.total())
+    throw FileError(b.files[shortest], "is saturated everywhere, and it is the shortest exposure of the bracket: "
+                                       "nothing was measured; shoot shorter exposures");
+  if (cv::countNonZero(long_codes <= 0.02 * top) > 0.999 * long_codes.total())
+    throw FileError(b.files[longest], "is black everywhere, and it is the longest exposure of the bracket: "
+                                      "nothing was measured; shoot longer exposures");
+}
+
+int ClipReachFor(const Bracket& b, bool is_probe) { return b.jpeg && is_probe ? kJpegClipReach : -1; }
+
+MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt) {
+  // One frame is enough only when it is linear (16-bit: RAW or a linear
+  // PNG/TIFF); an 8-bit frame needs a bracket to recover its response.
+  if (b.files.size() < 2 && b.frames[0].depth() == CV_8U && !opt.response)
+    throw FileError(b.files[0], "is a single 8-bit frame: merge needs a bracket (two or more exposures) "
+                                "or --response CURVE.json to linearise it");
+  if (opt.align && b.files.size() > 1) {
+    AlignedBracket a = AlignBracket(b.frames);
+    for (size_t j = 0; j < b.files.size(); ++j) b.records[j]["shift"] = {a.shifts[j].x, a.shifts[j].y};
+    b.frames = std::move(a.frames);
+  }
+  CheckBracketMeasured(b);
+  const int clip_reach = ClipReachFor(b, opt.is_probe);
+  MergedBracket out;
+  if (opt.response)
+    out.response = *opt.response;
+  else if (b.frames[0].depth() == CV_8U)
+    out.response = RecoverResponse(b.frames, b.exposure, 3, 200000, clip_reach);
+  else
+    out.response = ResponseCurve::Linear16();
+  MergeOptions merge_options;
+  merge_options.clip_reach = clip_reach;
+  out.merge = MergeBracket(b.frames, b.exposure, out.response, merge_options);
+  MergeSidecar& s = out.sidecar;
+  s.frames = b.records;
+  s.camera = b.camera;
+  s.focal_35mm = b.focal_35mm;
+  s.response = out.response;
+  s.raw = b.raw;
+  s.aligned = opt.align;
+  s.unreliable_fraction = out.merge.unreliable_fraction;
+  s.clip_reach = clip_reach;
+  out.frames = std::move(b.frames);
+  return out;
+}
+
+}  // namespace brdfshot

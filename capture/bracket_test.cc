@@ -1,0 +1,127 @@
+#include "capture/bracket.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "capture/clipping.h"
+#include "util/check.h"
+
+namespace brdfshot {
+namespace {
+namespace fs = std::filesystem;
+
+// A folder of 8-bit PNG frames (BGR on disk) and a times file.
+struct Folder {
+  fs::path dir;
+  std::vector<std::string> files;
+  std::string times;
+  explicit Folder(const std::string& name) : dir(fs::temp_directory_path() / name) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  ~Folder() { fs::remove_all(dir); }
+  void Add(const cv::Mat& bgr8, double t) {
+    const std::string f = (dir / ("f" + std::to_string(files.size()) + ".png")).string();
+    cv::imwrite(f, bgr8);
+    files.push_back(f);
+    times += std::to_string(t) + "\n";
+    std::ofstream((dir / "times.txt").string()) << times;
+  }
+  std::string TimesPath() const { return (dir / "times.txt").string(); }
+};
+
+// A gradient scene seen through a linear 8-bit camera at exposure t.
+cv::Mat Shot(double t, cv::Size size = {32, 24}) {
+  cv::Mat bgr(size, CV_8UC3);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const double e = t * (20.0 + 200.0 * x / size.width);
+      bgr.at<cv::Vec3b>(y, x) = cv::Vec3b::all(cv::saturate_cast<uchar>(e));
+    }
+  return bgr;
+}
+
+std::string Message(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(Bracket, ReadsFramesAndTimesAndMergesToTheSceneUpToScale) {
+  Folder d("brdfshot_bracket_read");
+  for (double t : {0.25, 0.5, 1.0}) d.Add(Shot(t), t);
+  BracketReadOptions opt;
+  opt.times_path = d.TimesPath();
+  const Bracket b = ReadBracket(ExpandBracketInputs({d.dir.string()}), opt);
+  ASSERT_EQ(b.files.size(), 3u);
+  EXPECT_EQ(b.exposure, (std::vector<double>{0.25, 0.5, 1.0}));
+  EXPECT_FALSE(b.raw);
+  EXPECT_FALSE(b.jpeg);
+  EXPECT_EQ(b.records.size(), 3u);
+  EXPECT_EQ(b.records[1]["exposure"], 0.5);
+  const MergedBracket m = MergeReadBracket(b, BracketMergeOptions{});
+  // The scene is linear in x: the merged radiance's ratio between two columns
+  // is the scene's (within the 8-bit quantisation of the response recovery).
+  const cv::Vec3f left = m.merge.radiance.at<cv::Vec3f>(12, 4), right = m.merge.radiance.at<cv::Vec3f>(12, 28);
+  const double want = (20.0 + 200.0 * 28 / 32) / (20.0 + 200.0 * 4 / 32);
+  EXPECT_NEAR(right[1] / left[1], want, 0.1 * want);
+  EXPECT_EQ(m.sidecar.frames.size(), 3u);
+  EXPECT_EQ(m.sidecar.clip_reach, -1);
+}
+
+TEST(Bracket, RefusalsNameTheFrame) {
+  Folder d("brdfshot_bracket_refuse");
+  d.Add(Shot(0.5), 0.5);
+  d.Add(Shot(1.0, {16, 24}), 1.0);
+  BracketReadOptions opt;
+  opt.times_path = d.TimesPath();
+  EXPECT_NE(Message([&] { ReadBracket(d.files, opt); }).find(d.files[1] + ": is 16x24, " + d.files[0] + " is 32x24"),
+            std::string::npos);
+  EXPECT_NE(Message([&] { ReadBracket({(d.dir / "missing.png").string()}, opt); }).find("missing.png: cannot decode"),
+            std::string::npos);
+  EXPECT_NE(Message([&] { ExpandBracketInputs({(d.dir / "missing.png").string()}); }).find("missing.png: no such file"),
+            std::string::npos);
+  // One 8-bit frame cannot give a response.
+  const Bracket one = ReadBracket({d.files[0]}, BracketReadOptions{});
+  EXPECT_NE(Message([&] { MergeReadBracket(one, BracketMergeOptions{}); }).find("is a single 8-bit frame"),
+            std::string::npos);
+}
+
+TEST(Bracket, ABracketThatSawNothingIsRefusedInThePhotographersTerms) {
+  Folder d("brdfshot_bracket_nothing");
+  d.Add(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(255)), 0.5);
+  d.Add(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(255)), 1.0);
+  BracketReadOptions opt;
+  opt.times_path = d.TimesPath();
+  const std::string white = Message([&] { CheckBracketMeasured(ReadBracket(d.files, opt)); });
+  EXPECT_NE(white.find(d.files[0] + ": is saturated everywhere, and it is the shortest exposure"), std::string::npos)
+      << white;
+  Folder k("brdfshot_bracket_black");
+  k.Add(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(0)), 0.5);
+  k.Add(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(1)), 1.0);
+  opt.times_path = k.TimesPath();
+  const std::string black = Message([&] { CheckBracketMeasured(ReadBracket(k.files, opt)); });
+  EXPECT_NE(black.find(k.files[1] + ": is black everywhere, and it is the longest exposure"), std::string::npos)
+      << black;
+}
+
+TEST(Bracket, ClippingRuleOnlyForJpegProbes) {
+  Bracket b;
+  b.jpeg = true;
+  EXPECT_EQ(ClipReachFor(b, true), kJpegClipReach);
+  EXPECT_EQ(ClipReachFor(b, false), -1) << "a sphere's photo keeps its per-channel samples";
+  b.jpeg = false;
+  EXPECT_EQ(ClipReachFor(b, true), -1) << "lossless frames keep per-channel clipping";
+  EXPECT_TRUE(IsRawFile("a/B.NEF"));
+  EXPECT_TRUE(IsJpegFile("x.JPEG"));
+  EXPECT_FALSE(IsRawFile("x.png"));
+}
+
+}  // namespace
+}  // namespace brdfshot
