@@ -7,6 +7,7 @@
 #include "apps/command.h"
 #include "apps/common_options.h"
 #include "apps/scene_setup.h"
+#include "fit/fit_previews.h"
 #include "fit/photo_fit.h"
 #include "fit/transport.h"
 #include "util/atomic_file.h"
@@ -74,21 +75,13 @@ int FitMain(int argc, char** argv) {
   const MerlBrdf brdf = BrdfOfFit(record, tables, &label, &clamped);
   brdf.Write(out + "/brdf.binary");
 
-  // Previews: photo | reconstruction, then the result relit under other probes.
-  const cv::Mat photo_img = PixelsToImage(basis.geometry, y), recon_img = PixelsToImage(basis.geometry, fit.reconstruction);
-  cv::Mat side;
-  cv::hconcat(photo_img, recon_img, side);
-  WritePngTonemapped(out + "/photo_vs_fit.png", side, AutoExposure(photo_img));
-  const std::string own = basis.header["probe_name"];
-  std::vector<std::string> picked;
+  // Previews: photo | reconstruction, then the result relit under two other probes.
+  WritePhotoVersusFit(basis, y, fit.reconstruction, out);
+  std::vector<LatLongProbe> others;
   for (const auto& p : ResolveProbes(previews, db.data))
-    if (std::filesystem::path(p).stem() != own && picked.size() < 2) picked.push_back(p);
-  for (const auto& p : picked) {
-    const LatLongProbe probe = LatLongProbe::Read(p);
-    const PixelGeometry pg = OrthographicSphere(128, 89.5);
-    const cv::Mat img = PixelsToImage(pg, TransportOperator::Build(pg, probe, brdf.grid(), quality.q).Render(brdf));
-    WritePngTonemapped(out + "/relit_" + probe.name() + ".png", img, AutoExposure(img));
-  }
+    if (std::filesystem::path(p).stem() != basis.header.value("probe_name", "") && others.size() < 2)
+      others.push_back(LatLongProbe::Read(p));
+  const std::vector<std::string> relit = WriteRelitPreviews(brdf, others, quality.q, out);
   std::printf("%s\nchosen class %d, lambda %g (%s), constraint: %s (%ld bin-channels below zero clamped); predicted relit error %.4f; per class (residual, bases, cond):",
               label.c_str(), record.chosen_class, record.lambda, record.lambda_rule.c_str(),
               record.weights_constraint.c_str(), clamped, record.predicted_relit_error);
@@ -98,7 +91,7 @@ int FitMain(int argc, char** argv) {
               "%d bins off the sample constrained\n"
               "wrote %s/fit.json, brdf.binary, photo_vs_fit.png and %zu relit previews\n",
               record.relative_residual, 1000 * record.seconds_solve, record.seconds_factor, record.seconds_table_check,
-              record.negative_bins_added, out.c_str(), picked.size());
+              record.negative_bins_added, out.c_str(), relit.size());
   return 0;
 }
 
