@@ -16,11 +16,13 @@ namespace brdfshot {
 namespace po = boost::program_options;
 
 void BrdfSourceArgs::Add(po::options_description& d) {
+  // clang-format off
   d.add_options()
       ("merl", po::value(&merl), "a MERL .binary file")
       ("standin", po::value(&standin), "a stand-in material by name (e.g. metal-01)")
       ("nbrdf", po::value(&nbrdf), "a MERL material by name, from its neural fit (e.g. chrome)")
       ("weights", po::value(&weights), "fit.json from 'brdfshot fit' (its database is reloaded)");
+  // clang-format on
 }
 
 MerlBrdf BrdfSourceArgs::Load(const DatabaseArgs& db, std::string* label) const {

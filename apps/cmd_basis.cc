@@ -22,6 +22,7 @@ int BasisMain(int argc, char** argv) {
   double margin = 80, error_target = 0;
   int error_pixels = QualitySearchOptions{}.pixels;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("probe,p", po::value(&probe_path)->required(), "lat-long light probe (.exr/.hdr/.pfm)")
       ("out,o", po::value(&out)->default_value(out), "basis-image cache")
@@ -33,6 +34,7 @@ int BasisMain(int argc, char** argv) {
        "of the test materials is within this relative RMSE of the converged reference on this scene (e.g. 0.01; "
        "0: use the quality options as given)")
       ("error-pixels", po::value(&error_pixels)->default_value(error_pixels), "with --error-target: about this many pixels carry the error");
+  // clang-format on
   db.Add(desc);
   quality.Add(desc);
   if (!ParseOptions("basis", "--probe P [options]", desc, argc, argv)) return 0;

@@ -98,6 +98,7 @@ int BenchBasisMain(int argc, char** argv) {
   QualityArgs base_quality;
   double margin = 80;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("probe,p", po::value(&probe_path), "lat-long probe (default: <data>/envmaps/forest.exr)")
       ("spheres", po::value(&spheres_arg)->default_value(spheres_arg), "sphere diameters in pixels")
@@ -109,6 +110,7 @@ int BenchBasisMain(int argc, char** argv) {
       ("margin", po::value(&margin)->default_value(margin), "max angle between normal and view (deg)")
       ("cache", po::value(&cache)->default_value(cache), "folder for cached references (test data, not committed)")
       ("out,o", po::value(&out)->default_value(out), "output folder: table (markdown, CSV) and plot");
+  // clang-format on
   db.Add(desc);
   base_quality.Add(desc);
   if (!ParseOptions("bench-basis", "[options]", desc, argc, argv)) return 0;

@@ -64,6 +64,7 @@ int BenchDetectMain(int argc, char** argv) {
   std::string dump;
   double focal_factor = 1.4;  // perspective focal length, in image widths
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("sizes", po::value(&sizes_arg)->default_value(sizes_arg), "image sizes WxH, comma-separated (4000x3000 = 12 MP)")
       ("seeds", po::value(&seeds)->default_value(seeds), "scenes per size and camera")
@@ -73,6 +74,7 @@ int BenchDetectMain(int argc, char** argv) {
       ("verbose,v", po::bool_switch(&verbose), "print every scene's truth and detection")
       ("dump", po::value(&dump), "write every scene as a tone-mapped PNG into this folder")
       ("focal", po::value(&focal_factor)->default_value(focal_factor), "perspective focal length, in image widths");
+  // clang-format on
   if (!ParseOptions("bench-detect", "[options]", desc, argc, argv)) return 0;
   if (seeds < 1) throw Error("--seeds must be at least 1");
   std::vector<cv::Size> sizes;

@@ -214,6 +214,7 @@ int BenchMergeMain(int argc, char** argv) {
   double stops = 1;
   CameraModel cam;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("probes", po::value(&probes_arg), "HDR scenes (default: every <data>/envmaps/*.exr)")
       ("data", po::value(&data), "data folder (default: $BRDFSHOT_DATA, then ../shared)")
@@ -226,6 +227,7 @@ int BenchMergeMain(int argc, char** argv) {
        "pass the 8-bit frames through JPEG at this quality (OpenCV's 4:2:0), as a camera's JPEGs; 0: lossless")
       ("methods", po::value(&methods_arg)->default_value(methods_arg), "methods to run (cv-robertson takes minutes at 12 MP)")
       ("out,o", po::value(&out)->default_value(out), "output folder: table (markdown, CSV)");
+  // clang-format on
   if (!ParseOptions("bench-merge", "[options]", desc, argc, argv)) return 0;
   const cv::Size size = ParseImageSize(size_arg, "--size", 16);
   const int width = size.width, height = size.height;

@@ -114,6 +114,7 @@ int CalibMain(int argc, char** argv) {
   int width = 0;
   MirrorBallOptions ball;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("probe,p", po::value(&probe_path), "probe image (.exr/.hdr/.pfm)")
       ("sun", po::value(&sun), "instead of --probe: one distant light towards x,y,z (probe frame), e.g. a photometric-stereo LED")
@@ -139,6 +140,7 @@ int CalibMain(int argc, char** argv) {
       ("ball-camera-hole", po::value(&ball.camera_hole_deg)->default_value(ball.camera_hole_deg), "ball normals within this (deg) of the camera show the camera: filled in")
       ("sidecar", po::value(&sidecar), "calibration JSON (default: <out>.json)")
       ("out,o", po::value(&out)->default_value(out), "lat-long probe (EXR)");
+  // clang-format on
   if (!ParseOptions("calib", "(--probe P [--layout L] | --sun x,y,z) [--rotate y,p,r | --rotate-from-ball B] [--scale s | --photo-merge M --probe-merge M | --card PHOTO --card-region x,y,w,h] [options]", desc,
                     argc, argv))
     return 0;

@@ -19,6 +19,7 @@ int ClusterMain(int argc, char** argv) {
   GmmOptions gmm;
   std::string out = "classes.json", plot;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("out,o", po::value(&out)->default_value(out), "class model (JSON)")
       ("plot", po::value(&plot), "MDS picture of the classes (PNG; default: <out>.png)")
@@ -27,6 +28,7 @@ int ClusterMain(int argc, char** argv) {
       ("seed", po::value(&gmm.seed)->default_value(gmm.seed), "k-means seed")
       ("reg", po::value(&gmm.reg)->default_value(gmm.reg), "covariance ridge (relative)")
       ("paper-mstep", po::bool_switch(&gmm.paper_mstep), "use the paper's printed M-step (divide by pi_j)");
+  // clang-format on
   db.Add(desc);
   if (!ParseOptions("cluster", "[options]", desc, argc, argv)) return 0;
   if (plot.empty()) plot = out.substr(0, out.rfind('.')) + ".png";

@@ -14,10 +14,12 @@ int CompareMain(int argc, char** argv) {
   std::string a, b;
   bool up_to_scale = false;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()("reference", po::value(&a)->required(), "reference image (EXR)")
       ("test", po::value(&b)->required(), "image to score (EXR)")
       ("up-to-scale", po::bool_switch(&up_to_scale), "score TEST after the scale that fits it best (least squares): "
        "an HDR merge is known only up to one");
+  // clang-format on
   po::positional_options_description pos;
   pos.add("reference", 1).add("test", 1);
   if (!ParseOptions("compare", "REFERENCE.exr TEST.exr", desc, argc, argv, &pos)) return 0;

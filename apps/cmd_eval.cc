@@ -24,6 +24,7 @@ int EvalMain(int argc, char** argv) {
   bool no_directional = false;
   std::string constraint = "bins";
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("out,o", po::value(&out)->default_value(out), "output folder (CSV, markdown, plots)")
       ("probes", po::value(&probes_arg), "comma-separated probes (default: every <data>/envmaps/*.exr)")
@@ -42,6 +43,7 @@ int EvalMain(int argc, char** argv) {
       ("targets-data", po::value(&eo.targets_data), "data folder of --targets (default: --data)")
       ("classes", po::value(&loo.gmm.classes)->default_value(loo.gmm.classes), "Gaussians K")
       ("dims", po::value(&loo.gmm.dims)->default_value(loo.gmm.dims), "SVD coordinates N");
+  // clang-format on
   db.Add(desc);
   quality.Add(desc);
   if (!ParseOptions("eval", "[options]", desc, argc, argv)) return 0;

@@ -25,6 +25,7 @@ int FitMain(int argc, char** argv) {
   double lambda = -1;
   std::string constraint = "bins";
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("basis,b", po::value(&basis_path)->required(), "basis-image cache from 'brdfshot basis'")
       ("photo", po::value(&photo_path), "linear HDR photo (EXR) aligned with the basis images' pixels")
@@ -42,6 +43,7 @@ int FitMain(int argc, char** argv) {
        "non-negative everywhere, but relights worse), none")
       ("out,o", po::value(&out)->default_value(out), "output folder")
       ("preview-probes", po::value(&previews), "probes to relight the result under (default: two of <data>/envmaps)");
+  // clang-format on
   db.Add(desc);
   quality.Add(desc);
   if (!ParseOptions("fit", "--basis Y.bsbi (--photo photo.exr | --obs obs.bsobs) --classes classes.json [options]",

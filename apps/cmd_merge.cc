@@ -60,6 +60,7 @@ int MergeMain(int argc, char** argv) {
   bool align = false, half = false, probe = false;
   std::string wb_arg, plot_out;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("input", po::value(&inputs)->multitoken(), "frames: files or a folder (positional)")
       ("times", po::value(&times_path), "exposure times file, one per frame in input order (overrides EXIF)")
@@ -75,6 +76,7 @@ int MergeMain(int argc, char** argv) {
        "the bracket is a light probe: with JPEG frames, a frame does not count near a highlight clipped in two "
        "channels (JPEG lowers the third; a small sun's power comes out far too low otherwise)")
       ("out,o", po::value(&out)->default_value(out), "merged linear radiance (.exr)");
+  // clang-format on
   po::positional_options_description pos;
   pos.add("input", -1);
   if (!ParseOptions("merge", "FRAME... | FOLDER [options]", desc, argc, argv, &pos)) return 0;

@@ -26,6 +26,7 @@ int NormalsMain(int argc, char** argv) {
   double focal_35mm = 0;
   std::string near, merge_sidecar, normal_map_out;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("photo", po::value(&photo_path)->required(), "linear HDR photo (EXR/HDR/PFM) or an 8/16-bit image")
       ("focal-px", po::value(&o.focal_px)->default_value(0), "focal length in pixels: perspective model (0: orthographic)")
@@ -36,6 +37,7 @@ int NormalsMain(int argc, char** argv) {
       ("normal-map-out", po::value(&normal_map_out), "also write the sphere's normals (camera frame, float EXR, 0 off the sphere): what 'remap --normal-map' reads for other shapes")
       ("overlay", po::value(&overlay), "picture of the detection (default: <out>.png)")
       ("out,o", po::value(&out)->default_value(out), "sphere file (JSON) for 'brdfshot remap'");
+  // clang-format on
   po::positional_options_description pos;
   pos.add("photo", 1);
   if (!ParseOptions("normals", "PHOTO [options]", desc, argc, argv, &pos)) return 0;

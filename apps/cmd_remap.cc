@@ -44,6 +44,7 @@ int RemapMain(int argc, char** argv) {
   SphereMaskOptions mask;
   NormalMapOptions map_options;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("photo", po::value(&photo_path)->required(), "linear HDR photo (from 'brdfshot merge')")
       ("sphere", po::value(&sphere_path), "sphere file (from 'brdfshot normals')")
@@ -56,6 +57,7 @@ int RemapMain(int argc, char** argv) {
       ("margin", po::value(&mask.max_angle_deg)->default_value(mask.max_angle_deg), "max angle between normal and view (deg)")
       ("rim-px", po::value(&mask.rim_margin_px)->default_value(mask.rim_margin_px), "pixels this close to the silhouette are dropped")
       ("out,o", po::value(&out)->default_value(out), "observation file");
+  // clang-format on
   if (!ParseOptions("remap", "--photo P (--sphere S | --normal-map N [--mask M]) [--calib C] [options]", desc, argc,
                     argv))
     return 0;

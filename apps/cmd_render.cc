@@ -22,12 +22,14 @@ int RenderMain(int argc, char** argv) {
   int sphere = 256, pad = 0;
   double exposure = 0;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("probe,p", po::value(&probe_path)->required(), "lat-long light probe")
       ("out,o", po::value(&out)->default_value(out), "EXR output (a tone-mapped .png is written beside it)")
       ("sphere", po::value(&sphere)->default_value(sphere), "sphere diameter in pixels")
       ("exposure", po::value(&exposure)->default_value(0), "PNG exposure scale (0: automatic)")
       ("pad", po::value(&pad)->default_value(0), "black border in pixels around the sphere (a photo to detect it in)");
+  // clang-format on
   src.Add(desc);
   db.Add(desc);
   quality.Add(desc);

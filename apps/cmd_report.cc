@@ -60,11 +60,13 @@ std::vector<std::pair<std::string, double>> StageTimes(const std::string& path) 
 int ReportMain(int argc, char** argv) {
   std::string results, capture, title, out;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("results,r", po::value(&results)->required(), "the capture's results folder (the Makefile's, see samples/Makefile)")
       ("capture", po::value(&capture), "the capture folder (its truth/, if synthetic, is compared against)")
       ("title", po::value(&title), "report title (default: the results folder's name)")
       ("out,o", po::value(&out), "markdown report (default: <results>/report.md; pictures go to <results>/report/)");
+  // clang-format on
   if (!ParseOptions("report", "--results DIR [--capture DIR] [options]", desc, argc, argv)) return 0;
   const fs::path r(results);
   if (!fs::is_directory(r)) throw FileError(results, "is not a results folder");

@@ -74,6 +74,7 @@ int SynthCaptureMain(int argc, char** argv) {
   double stops = 2;
   int probe_width = 512, mirror_ball = 0;
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()
       ("probe,p", po::value(&probe_path)->required(), "lat-long light probe (the scene's true lighting)")
       ("out,o", po::value(&out)->default_value(out), "capture folder to write")
@@ -91,6 +92,7 @@ int SynthCaptureMain(int argc, char** argv) {
       ("seed", po::value(&camera.seed)->default_value(camera.seed), "noise seed")
       ("probe-shot-width", po::value(&probe_width)->default_value(probe_width), "width of the probe's own bracket (lat-long panorama; the rendering quality's --probe-width is separate)")
       ("mirror-ball", po::value(&mirror_ball)->default_value(0), "also write ball.exr: a mirror ball this many px across, shot from the camera (linear HDR), and let capture.mk estimate the rotation from it instead of stating it");
+  // clang-format on
   src.Add(desc);
   db.Add(desc);
   quality.Add(desc);

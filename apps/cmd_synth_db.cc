@@ -22,7 +22,9 @@ struct DbWriteArgs {
 
 bool ParseDbWrite(const char* command, int argc, char** argv, DbWriteArgs* a) {
   po::options_description desc("options");
+  // clang-format off
   desc.add_options()("out,o", po::value(&a->out)->required(), "output folder (created)");
+  // clang-format on
   a->db.Add(desc);
   if (!ParseOptions(command, "--out DIR [options]", desc, argc, argv)) return false;
   MakeOutputDir(a->out);

@@ -11,6 +11,7 @@ namespace brdfshot {
 namespace po = boost::program_options;
 
 void DatabaseArgs::Add(po::options_description& d) {
+  // clang-format off
   d.add_options()
       ("db", po::value(&kind)->default_value(kind), "database: auto | merl | nbrdf | standin "
        "(auto: real MERL files if present, else the neural fits, else the stand-in)")
@@ -20,6 +21,7 @@ void DatabaseArgs::Add(po::options_description& d) {
       ("materials", po::value(&materials), "comma-separated material names (default: all)")
       ("exclude", po::value(&exclude), "comma-separated material names to leave out (leave-one-out on a known material)")
       ("max-materials", po::value(&max_materials)->default_value(0), "keep N materials spread over the list (0: all)");
+  // clang-format on
 }
 
 DatabaseOptions DatabaseArgs::ToOptions(bool progress) const {
@@ -88,6 +90,7 @@ std::vector<double> ParseLambdaGrid(const std::string& text) {
 }
 
 void QualityArgs::Add(po::options_description& d) {
+  // clang-format off
   d.add_options()
       ("theta-samples", po::value(&q.theta_samples)->default_value(q.theta_samples), "half-vector samples along sqrt(theta_h)")
       ("phi-samples", po::value(&q.phi_samples)->default_value(q.phi_samples), "half-vector samples along phi_h")
@@ -95,6 +98,7 @@ void QualityArgs::Add(po::options_description& d) {
       ("level-step", po::value(&q.level_step_deg)->default_value(q.level_step_deg), "theta_o spacing (deg) of the pixel levels sharing table reads")
       ("level-substeps", po::value(&q.level_substeps)->default_value(q.level_substeps), "pixels snap to level-step/level-substeps in theta_o")
       ("brdf-supersample", po::value(&q.brdf_supersample)->default_value(q.brdf_supersample), "table reads per sample cell along sqrt(theta_h) (0: auto)");
+  // clang-format on
 }
 
 double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo, const std::string& prefix) {

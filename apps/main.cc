@@ -47,7 +47,9 @@ std::string CommandLine(int argc, char** argv) {
 
 bool ParseOptions(const std::string& command, const std::string& usage, po::options_description& desc,
                   int argc, char** argv, po::positional_options_description* positional) {
+  // clang-format off
   desc.add_options()("help,h", "show this help");
+  // clang-format on
   // Two options of one name (a command's own and a shared group's) make every
   // use of that name "ambiguous" at run time: a programming error, caught here.
   std::set<std::string> names;

@@ -89,11 +89,13 @@ TEST(ConstrainToNonNegativeBins, OppositeBinsPinTheWeightAtZero) {
 
 TEST(ConstraintBins, TakesEveryStrideThRowOfTheMembers) {
   MatrixXfR tables(5, 3);
+  // clang-format off
   tables << 0, 1, 2,
             3, 4, 5,
             6, 7, 8,
             9, 10, 11,
             12, 13, 14;
+  // clang-format on
   const Eigen::MatrixXd A = ConstraintBins(tables, {2, 0}, 2);
   ASSERT_EQ(A.rows(), 3);
   EXPECT_EQ(A, (Eigen::MatrixXd(3, 2) << 2, 0, 8, 6, 14, 12).finished());

@@ -91,7 +91,7 @@ TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
     }
     if (row.method == "auto") {
       EXPECT_GE(row.predicted, 0) << "auto predicts its error";
-      EXPECT_EQ(row.negative_bins, 0.0) << row.probe << " " << row.lambda << " cls " << row.chosen_class << " auto keeps the BRDF non-negative at the constrained bins";
+      EXPECT_EQ(row.negative_bins, 0.0) << "auto keeps the BRDF non-negative at the constrained bins";
     }
   }
   // The targets' weights have both signs: least squares reproduces them, and
@@ -108,12 +108,16 @@ namespace brdfshot {
 
 TEST(NegativeBinShare, CountsBinChannelPairsBelowZero) {
   MatrixXfR bins(2, 3);
+  // clang-format off
   bins << 1, 0, 2,
           0, 1, 1;
+  // clang-format on
   Eigen::MatrixXd w(3, 3);
+  // clang-format off
   w << 1, -1, 1,
        -2, 1, 0,
        0, 0, -1;
+  // clang-format on
   // Values per bin and channel: bin 0 (1, -1, -1), bin 1 (-2, 1, -1): 4 of 6 negative.
   EXPECT_DOUBLE_EQ(NegativeBinShare(bins, w), 4.0 / 6.0);
   EXPECT_EQ(NegativeBinShare(MatrixXfR(), w), -1.0) << "nothing sampled: not counted";
