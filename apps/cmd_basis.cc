@@ -55,14 +55,16 @@ int BasisMain(int argc, char** argv) {
     so.pixels = error_pixels;
     Progress progress("error reference", ErrorTestMaterials(base).size(), true);
     const QualityChoice c = ChooseQuality(b.geometry, probe, base, quality.q, so, &progress);
-    search = {{"target", error_target}, {"reached", c.reached}, {"pixels", c.pixels}, {"trials", nlohmann::json::array()}};
+    search = {
+        {"target", error_target}, {"reached", c.reached}, {"pixels", c.pixels}, {"trials", nlohmann::json::array()}};
     std::printf("error target %.4g on %zu pixels (reference %.1f s):\n", error_target, c.pixels, c.reference_seconds);
     for (const QualityTrial& tr : c.trials) {
       std::printf("  %2dx%-3d probe %-5s worst %.4f  (", tr.quality.theta_samples, tr.quality.phi_samples,
                   tr.quality.probe_width > 0 ? std::to_string(tr.quality.probe_width).c_str() : "full", tr.worst);
       for (const auto& [label, e] : tr.label_error) std::printf(" %s %.4f", label.c_str(), e);
       std::printf(" )\n");
-      search["trials"].push_back({{"quality", tr.quality.Describe()}, {"worst", tr.worst}, {"by_class", tr.label_error}});
+      search["trials"].push_back(
+          {{"quality", tr.quality.Describe()}, {"worst", tr.worst}, {"by_class", tr.label_error}});
     }
     if (!c.reached)
       std::fprintf(stderr, "warning: no setting reached %.4g on this scene; using the best, %s (worst %.4f)\n",
@@ -76,17 +78,26 @@ int BasisMain(int argc, char** argv) {
   const double t_apply = sw.Seconds() - t_db - t_search - t_build;
   std::vector<std::string> names;
   for (int i = 0; i < base.num_bases(); ++i) names.push_back(base.BasisName(i));
-  b.header = {{"format", "brdfshot-basis-images-1"}, {"probe", probe_path}, {"probe_name", probe.name()},
-              {"probe_hash", probe.Hash()}, {"geometry", obs_path.empty() ? "orthographic-sphere" : obs_path},
-              {"sphere", sphere}, {"margin_deg", margin}, {"geometry_hash", b.geometry.Hash()}, {"quality", quality.q.Describe()},
-              {"database", base.label}, {"database_kind", base.kind},
-              {"grid", {base.grid.n_th, base.grid.n_td, base.grid.n_pd}}, {"bases", names}};
+  b.header = {{"format", "brdfshot-basis-images-1"},
+              {"probe", probe_path},
+              {"probe_name", probe.name()},
+              {"probe_hash", probe.Hash()},
+              {"geometry", obs_path.empty() ? "orthographic-sphere" : obs_path},
+              {"sphere", sphere},
+              {"margin_deg", margin},
+              {"geometry_hash", b.geometry.Hash()},
+              {"quality", quality.q.Describe()},
+              {"database", base.label},
+              {"database_kind", base.kind},
+              {"grid", {base.grid.n_th, base.grid.n_td, base.grid.n_pd}},
+              {"bases", names}};
   if (!search.is_null()) b.header["quality_search"] = search;
   b.Write(out);
-  std::printf("basis images: %zu pixels x %d bases under %s (%s), %d theta_o levels\n"
-              "time: database %.2f s, quality search %.2f s, operator %.2f s, apply %.2f s\nwrote %s\n",
-              b.geometry.size(), base.num_bases(), probe.name().c_str(), base.label.c_str(), t.levels(),
-              t_db, t_search, t_build, t_apply, out.c_str());
+  std::printf(
+      "basis images: %zu pixels x %d bases under %s (%s), %d theta_o levels\n"
+      "time: database %.2f s, quality search %.2f s, operator %.2f s, apply %.2f s\nwrote %s\n",
+      b.geometry.size(), base.num_bases(), probe.name().c_str(), base.label.c_str(), t.levels(), t_db, t_search,
+      t_build, t_apply, out.c_str());
   return 0;
 }
 

@@ -162,9 +162,11 @@ int BenchBasisMain(int argc, char** argv) {
           ta.push_back(sa.Seconds());
           nlev = t.levels();
         }
-        Row row{sphere, width, std::to_string(nt) + "x" + std::to_string(np), g.size(), nlev,
-                Median(tb), Median(ta), brute, {}, 0};
-        row.class_max = WorstErrorPerLabel(TransportOperator::Build(sub, probe, base.grid, q).Apply(Bref), ref.Y, ref_class);
+        Row row{
+            sphere, width, std::to_string(nt) + "x" + std::to_string(np), g.size(), nlev, Median(tb), Median(ta), brute,
+            {},     0};
+        row.class_max =
+            WorstErrorPerLabel(TransportOperator::Build(sub, probe, base.grid, q).Apply(Bref), ref.Y, ref_class);
         for (const auto& [cls, e] : row.class_max) row.worst = std::max(row.worst, e);
         rows.push_back(row);
         std::printf("probe %4d  sphere %3d  %-6s  build %6.3f s  apply %6.3f s  worst error %.4f\n", width, sphere,

@@ -80,8 +80,10 @@ int BenchDetectMain(int argc, char** argv) {
   std::vector<cv::Size> sizes;
   for (const std::string& s : SplitList(sizes_arg)) sizes.push_back(ParseImageSize(s, "--sizes", 64));
 
-  std::printf("| size | camera | method | centre err median / max (px) | radius err median / max (px) | misses | time median |\n"
-              "|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| size | camera | method | centre err median / max (px) | radius err median / max (px) | misses | time median "
+      "|\n"
+      "|---|---|---|---|---|---|---|\n");
   for (const cv::Size& size : sizes) {
     for (const bool perspective : {false, true}) {
       Scores ours, hough;
@@ -132,11 +134,13 @@ int BenchDetectMain(int argc, char** argv) {
           const SphereDetection d = DetectSphere(img, o);
           ours.seconds.push_back(Seconds(t0));
           if (verbose)
-            std::fprintf(stderr, "seed %d: truth (%.1f, %.1f, r %.1f), ours (%.1f, %.1f, r %.1f) rms %.2f px %d/%d inliers, "
+            std::fprintf(stderr,
+                         "seed %d: truth (%.1f, %.1f, r %.1f), ours (%.1f, %.1f, r %.1f) rms %.2f px %d/%d inliers, "
                          "centre off %.3f px, radius off %+.3f px, blur %.2f px\n",
                          seed, truth.cx, truth.cy, truth.r, d.circle.cx, d.circle.cy, d.circle.r, d.quality.rms_px,
-                         d.quality.inliers, d.quality.points, std::hypot(d.circle.cx - truth.cx, d.circle.cy - truth.cy),
-                         d.circle.r - truth.r, d.blur_sigma);
+                         d.quality.inliers, d.quality.points,
+                         std::hypot(d.circle.cx - truth.cx, d.circle.cy - truth.cy), d.circle.r - truth.r,
+                         d.blur_sigma);
           if (perspective) {
             ours.centre.push_back(Length(Cross(d.cone.centre_dir, cone.centre_dir)) * focal);
             ours.radius.push_back(std::abs(d.cone.half_angle - cone.half_angle) * focal);
@@ -145,7 +149,9 @@ int BenchDetectMain(int argc, char** argv) {
             ours.radius.push_back(std::abs(d.circle.r - truth.r));
           }
         } catch (const Error& e) {
-          if (verbose) std::fprintf(stderr, "seed %d: truth (%.1f, %.1f, r %.1f), ours: %s\n", seed, truth.cx, truth.cy, truth.r, e.what());
+          if (verbose)
+            std::fprintf(stderr, "seed %d: truth (%.1f, %.1f, r %.1f), ours: %s\n", seed, truth.cx, truth.cy, truth.r,
+                         e.what());
           ++ours.misses;
         }
         t0 = std::chrono::steady_clock::now();
@@ -159,7 +165,8 @@ int BenchDetectMain(int argc, char** argv) {
         }
         progress.Step();
       }
-      for (const auto& [name, sc] : {std::pair<const char*, const Scores*>{"ours", &ours}, {"HoughCircles alone", &hough}}) {
+      for (const auto& [name, sc] :
+           {std::pair<const char*, const Scores*>{"ours", &ours}, {"HoughCircles alone", &hough}}) {
         auto mx = [](const std::vector<double>& v) { return v.empty() ? NAN : *std::max_element(v.begin(), v.end()); };
         std::printf("| %dx%d | %s | %s | %.3f / %.3f | %.3f / %.3f | %d/%d | %.0f ms |\n", size.width, size.height,
                     perspective ? "perspective" : "orthographic", name, Median(sc->centre), mx(sc->centre),

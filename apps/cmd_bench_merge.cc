@@ -174,7 +174,8 @@ std::vector<Method> Methods(const CameraModel& cam, bool jpeg) {
     };
   };
   return {
-      {"ours", "brdfshot: Debevec + Robertson-refined response, noise-aware weights (default)", false, ours(MergeWeights::kNoise)},
+      {"ours", "brdfshot: Debevec + Robertson-refined response, noise-aware weights (default)", false,
+       ours(MergeWeights::kNoise)},
       {"ours-debevec", "brdfshot, Debevec response without the Robertson refinement", false,
        [](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
          return MergeBracket(f, t, RecoverResponseDebevec(f, t)).radiance;
@@ -209,7 +210,7 @@ std::vector<Method> Methods(const CameraModel& cam, bool jpeg) {
 
 int BenchMergeMain(int argc, char** argv) {
   std::string probes_arg, data, size_arg = "4000x3000", out = "bench_merge",
-                          methods_arg = "ours,ours-hat,ours-flat,cv-debevec,cv-robertson,pfstools,ours-raw";
+                                methods_arg = "ours,ours-hat,ours-flat,cv-debevec,cv-robertson,pfstools,ours-raw";
   int frames = 9, jpeg_quality = 0;
   double stops = 1;
   CameraModel cam;
@@ -246,7 +247,8 @@ int BenchMergeMain(int argc, char** argv) {
   std::map<std::string, std::vector<double>> times_s;
   std::map<std::string, std::vector<ErrorStats>> errors;
   std::ostringstream md, csv;
-  md << "| scene | method | median rel. error | 95th pct | mean | power | unusable | time s |\n|---|---|---|---|---|---|---|---|\n";
+  md << "| scene | method | median rel. error | 95th pct | mean | power | unusable | time s "
+        "|\n|---|---|---|---|---|---|---|---|\n";
   csv << "scene,method,median,p95,mean,power,unusable,seconds\n";
   char buf[512];
   for (const std::string& path : probes) {
@@ -286,19 +288,22 @@ int BenchMergeMain(int argc, char** argv) {
       std::snprintf(buf, sizeof buf, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f |\n", scene.c_str(),
                     m.name.c_str(), e.median, e.p95, e.mean, e.power, e.bad_fraction, secs);
       md << buf;
-      std::printf("  %-58s median %.4f  p95 %.4f  power %.4f  %.3f s\n", m.name.c_str(), e.median, e.p95, e.power, secs);
+      std::printf("  %-58s median %.4f  p95 %.4f  power %.4f  %.3f s\n", m.name.c_str(), e.median, e.p95, e.power,
+                  secs);
       std::fflush(stdout);
       std::snprintf(buf, sizeof buf, "%s,\"%s\",%.5f,%.5f,%.5f,%.5f,%.5f,%.4f\n", scene.c_str(), m.name.c_str(),
                     e.median, e.p95, e.mean, e.power, e.bad_fraction, secs);
       csv << buf;
     }
   }
-  md << "\n| method | median of medians | median of 95th pct | worst power | median time s | time / OpenCV Debevec |\n|---|---|---|---|---|---|\n";
+  md << "\n| method | median of medians | median of 95th pct | worst power | median time s | time / OpenCV Debevec "
+        "|\n|---|---|---|---|---|---|\n";
   const double t_cv = Median(times_s["OpenCV CalibrateDebevec + MergeDebevec"]);  // 0 if not run
   for (const Method& m : methods) {
     std::vector<double> med, p95;
     double power = 0;
-    for (const ErrorStats& e : errors[m.name]) med.push_back(e.median), p95.push_back(e.p95), power = std::max(power, e.power);
+    for (const ErrorStats& e : errors[m.name])
+      med.push_back(e.median), p95.push_back(e.p95), power = std::max(power, e.power);
     const double tm = Median(times_s[m.name]);
     std::snprintf(buf, sizeof buf, "| %s | %.4f | %.4f | %.4f | %.3f | %.2f |\n", m.name.c_str(), Median(med),
                   Median(p95), power, tm, t_cv > 0 ? tm / t_cv : 0);

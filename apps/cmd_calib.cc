@@ -63,18 +63,23 @@ UnwrappedBall UnwrapBallPhoto(const std::string& path, const BallLocation& where
       c = det.circle;
       cone = det.cone;
     } catch (const Error& e) {
-      throw FileError(path, std::string(e.what()) + " (a mirror ball's rim can vanish against its surroundings: "
-                                                    "give --ball-circle cx,cy,r)");
+      throw FileError(path, std::string(e.what()) +
+                                " (a mirror ball's rim can vanish against its surroundings: "
+                                "give --ball-circle cx,cy,r)");
     }
   }
-  const BallCamera camera =
-      detect.focal_px > 0
-          ? BallCamera::Perspective(img.cols, img.rows, detect.focal_px, principal, cone.centre_dir, cone.half_angle)
-          : BallCamera::Orthographic(img.cols, img.rows, c.cx, c.cy, c.r);
+  const BallCamera camera = detect.focal_px > 0 ? BallCamera::Perspective(img.cols, img.rows, detect.focal_px,
+                                                                          principal, cone.centre_dir, cone.half_angle)
+                                                : BallCamera::Orthographic(img.cols, img.rows, c.cx, c.cy, c.r);
   UnwrappedBall u = UnwrapMirrorBall(img, camera, width, ball);
-  *j = {{"photo", path}, {"cx", c.cx}, {"cy", c.cy}, {"r", c.r}, {"circle_given", !where.circle.empty()},
+  *j = {{"photo", path},
+        {"cx", c.cx},
+        {"cy", c.cy},
+        {"r", c.r},
+        {"circle_given", !where.circle.empty()},
         {"camera", camera.perspective() ? "perspective" : "orthographic"},
-        {"reflectance", ball.reflectance}, {"max_normal_deg", ball.max_normal_deg},
+        {"reflectance", ball.reflectance},
+        {"max_normal_deg", ball.max_normal_deg},
         {"camera_hole_deg", ball.camera_hole_deg},
         {"measured_fraction", cv::countNonZero(u.measured) / double(u.measured.total())}};
   if (camera.perspective())
@@ -141,8 +146,10 @@ int CalibMain(int argc, char** argv) {
       ("sidecar", po::value(&sidecar), "calibration JSON (default: <out>.json)")
       ("out,o", po::value(&out)->default_value(out), "lat-long probe (EXR)");
   // clang-format on
-  if (!ParseOptions("calib", "(--probe P [--layout L] | --sun x,y,z) [--rotate y,p,r | --rotate-from-ball B] [--scale s | --photo-merge M --probe-merge M | --card PHOTO --card-region x,y,w,h] [options]", desc,
-                    argc, argv))
+  if (!ParseOptions("calib",
+                    "(--probe P [--layout L] | --sun x,y,z) [--rotate y,p,r | --rotate-from-ball B] [--scale s | "
+                    "--photo-merge M --probe-merge M | --card PHOTO --card-region x,y,w,h] [options]",
+                    desc, argc, argv))
     return 0;
   if (probe_path.empty() == sun.empty()) throw Error("calib: give exactly one of --probe and --sun");
   if (sidecar.empty()) sidecar = std::filesystem::path(out).replace_extension(".json").string();
@@ -207,9 +214,9 @@ int CalibMain(int argc, char** argv) {
   if (!card_photo.empty()) {
     const std::vector<double> r = ParseNumberList(card_region, 4, "--card-region", "x,y,w,h in pixels");
     const std::vector<double> n = ParseNumberList(card_normal, 3, "--card-normal", "x,y,z");
-    const ReferenceCard card{cv::Rect(static_cast<int>(r[0]), static_cast<int>(r[1]), static_cast<int>(r[2]),
-                                      static_cast<int>(r[3])),
-                             card_albedo, Vec3(n[0], n[1], n[2])};
+    const ReferenceCard card{
+        cv::Rect(static_cast<int>(r[0]), static_cast<int>(r[1]), static_cast<int>(r[2]), static_cast<int>(r[3])),
+        card_albedo, Vec3(n[0], n[1], n[2])};
     if (!(Length(card.normal_camera) > 0)) throw Error("--card-normal must not be zero");
     RadiometricScale rs;
     try {
@@ -218,15 +225,20 @@ int CalibMain(int argc, char** argv) {
       throw FileError(card_photo, e.what());
     }
     scale = rs.scale;
-    j["scale_from_card"] = {{"photo", card_photo}, {"region", r}, {"albedo", card_albedo}, {"normal_camera", n},
+    j["scale_from_card"] = {{"photo", card_photo},
+                            {"region", r},
+                            {"albedo", card_albedo},
+                            {"normal_camera", n},
                             {"measured", {rs.measured[0], rs.measured[1], rs.measured[2]}},
                             {"predicted", {rs.predicted[0], rs.predicted[1], rs.predicted[2]}},
-                            {"luminance_spread", rs.spread}, {"pixels", rs.pixels}};
+                            {"luminance_spread", rs.spread},
+                            {"pixels", rs.pixels}};
     std::printf("reference card: %d px, mean %.4g %.4g %.4g, a/pi E %.4g %.4g %.4g, spread %.1f %%\n", rs.pixels,
                 rs.measured[0], rs.measured[1], rs.measured[2], rs.predicted[0], rs.predicted[1], rs.predicted[2],
                 100 * rs.spread);
     if (rs.spread > 0.1)
-      std::fprintf(stderr, "warning: %s: the card region varies by %.0f %% (std/mean): is it all card, evenly lit and flat?\n",
+      std::fprintf(stderr,
+                   "warning: %s: the card region varies by %.0f %% (std/mean): is it all card, evenly lit and flat?\n",
                    card_photo.c_str(), 100 * rs.spread);
   }
   if (!photo_merge.empty()) {
@@ -235,8 +247,9 @@ int CalibMain(int argc, char** argv) {
     scale = rs.scale;
     j["scale_from_merges"] = {{"photo", photo_merge}, {"probe", probe_merge}, {"response_ratio_spread", rs.spread}};
     if (rs.spread > 0.05)
-      std::fprintf(stderr, "warning: %s, %s: the two response curves differ in shape by %.0f %% over the mid codes; "
-                           "merge the photo with the probe's --response, or use --card\n",
+      std::fprintf(stderr,
+                   "warning: %s, %s: the two response curves differ in shape by %.0f %% over the mid codes; "
+                   "merge the photo with the probe's --response, or use --card\n",
                    photo_merge.c_str(), probe_merge.c_str(), 100 * rs.spread);
   }
   WriteExr(out, probe.rgb());
@@ -246,10 +259,11 @@ int CalibMain(int argc, char** argv) {
   cal.yaw_pitch_roll_deg = {a[0], a[1], a[2]};
   cal.scale = scale;
   cal.Write(sidecar);
-  std::printf("probe %s (%s) -> %dx%d lat-long; rotation yaw %.2f pitch %.2f roll %.2f deg, scale %g %g %g\n"
-              "wrote %s, %s\n",
-              probe_path.c_str(), layout.c_str(), probe.width(), probe.height(), a[0], a[1], a[2], scale[0], scale[1],
-              scale[2], out.c_str(), sidecar.c_str());
+  std::printf(
+      "probe %s (%s) -> %dx%d lat-long; rotation yaw %.2f pitch %.2f roll %.2f deg, scale %g %g %g\n"
+      "wrote %s, %s\n",
+      probe_path.c_str(), layout.c_str(), probe.width(), probe.height(), a[0], a[1], a[2], scale[0], scale[1], scale[2],
+      out.c_str(), sidecar.c_str());
   return 0;
 }
 

@@ -51,8 +51,8 @@ int ClusterMain(int argc, char** argv) {
   std::vector<std::string> labels(num_bases);
   for (size_t m = 0; m < base.materials.size(); ++m) labels[3 * m + 1] = base.materials[m];
   WritePng(plot, ScatterPlot(ClassicalMds2(model.coords), model.label, labels,
-                             "MDS of the " + std::to_string(gmm.dims) + "-D class coordinates, " +
-                                 base.label + " (classes " + ClassSizes(model) + ")"));
+                             "MDS of the " + std::to_string(gmm.dims) + "-D class coordinates, " + base.label +
+                                 " (classes " + ClassSizes(model) + ")"));
   std::printf("database: %s, %d bases\n", base.label.c_str(), num_bases);
   std::printf("class sizes: %s   (paper, real MERL: 137 / 99 / 24 / 40)\n", ClassSizes(model).c_str());
   for (int k = 0; k < model.classes(); ++k) {

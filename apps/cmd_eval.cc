@@ -66,8 +66,8 @@ int EvalMain(int argc, char** argv) {
   WriteEvaluationCsv(ev, out + "/eval.csv");
   WriteFileAtomic(out + "/eval.md", [&](std::ostream& o) { o << report; });
   const std::vector<std::string> plots = WriteEvaluationPlots(ev, out);
-  std::printf("%s\nwrote %s/eval.csv, %s/eval.md, %s, %s\n", report.c_str(), out.c_str(), out.c_str(),
-              plots[0].c_str(), plots[1].c_str());
+  std::printf("%s\nwrote %s/eval.csv, %s/eval.md, %s, %s\n", report.c_str(), out.c_str(), out.c_str(), plots[0].c_str(),
+              plots[1].c_str());
   return 0;
 }
 

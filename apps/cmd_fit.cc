@@ -50,8 +50,10 @@ int FitMain(int argc, char** argv) {
                     desc, argc, argv))
     return 0;
   if (photo_path.empty() == obs_path.empty()) throw Error("fit: give exactly one of --photo and --obs");
-  if (lambda >= 0) fo.lambda.rule = "fixed", fo.lambda.fixed = lambda;
-  else if (lambda != -1) throw Error("--lambda must be ≥ 0");
+  if (lambda >= 0)
+    fo.lambda.rule = "fixed", fo.lambda.fixed = lambda;
+  else if (lambda != -1)
+    throw Error("--lambda must be ≥ 0");
   if (fo.lambda.rule != "cv" && fo.lambda.rule != "gcv" && fo.lambda.rule != "fixed")
     throw Error("unknown --lambda-rule '" + fo.lambda.rule + "': cv, gcv or fixed");
   if (fo.lambda.rule == "fixed" && lambda < 0) fo.lambda.fixed = 0.5;
@@ -84,16 +86,20 @@ int FitMain(int argc, char** argv) {
     if (std::filesystem::path(p).stem() != basis.header.value("probe_name", "") && others.size() < 2)
       others.push_back(LatLongProbe::Read(p));
   const std::vector<std::string> relit = WriteRelitPreviews(brdf, others, quality.q, out);
-  std::printf("%s\nchosen class %d, lambda %g (%s), constraint: %s (%ld bin-channels below zero clamped); predicted relit error %.4f; per class (residual, bases, cond):",
-              label.c_str(), record.chosen_class, record.lambda, record.lambda_rule.c_str(),
-              record.weights_constraint.c_str(), clamped, record.predicted_relit_error);
+  std::printf(
+      "%s\nchosen class %d, lambda %g (%s), constraint: %s (%ld bin-channels below zero clamped); predicted relit "
+      "error %.4f; per class (residual, bases, cond):",
+      label.c_str(), record.chosen_class, record.lambda, record.lambda_rule.c_str(), record.weights_constraint.c_str(),
+      clamped, record.predicted_relit_error);
   for (size_t k = 0; k < record.classes.size(); ++k)
-    std::printf(" [%zu] %.4g, %d, %.3g", k, record.classes[k].residual, record.classes[k].members, record.classes[k].condition);
-  std::printf("\nrelative residual %.4f; solve %.2f ms (after a %.3f s factorisation); whole table checked in %.2f s, "
-              "%d bins off the sample constrained\n"
-              "wrote %s/fit.json, brdf.binary, photo_vs_fit.png and %zu relit previews\n",
-              record.relative_residual, 1000 * record.seconds_solve, record.seconds_factor, record.seconds_table_check,
-              record.negative_bins_added, out.c_str(), relit.size());
+    std::printf(" [%zu] %.4g, %d, %.3g", k, record.classes[k].residual, record.classes[k].members,
+                record.classes[k].condition);
+  std::printf(
+      "\nrelative residual %.4f; solve %.2f ms (after a %.3f s factorisation); whole table checked in %.2f s, "
+      "%d bins off the sample constrained\n"
+      "wrote %s/fit.json, brdf.binary, photo_vs_fit.png and %zu relit previews\n",
+      record.relative_residual, 1000 * record.seconds_solve, record.seconds_factor, record.seconds_table_check,
+      record.negative_bins_added, out.c_str(), relit.size());
   return 0;
 }
 

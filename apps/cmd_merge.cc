@@ -96,7 +96,8 @@ int MergeMain(int argc, char** argv) {
   merge.align = align;
   merge.is_probe = probe;
   ResponseCurve given;
-  if (!response_in.empty()) given = ResponseCurve::FromJson(ReadJsonFile(response_in), response_in), merge.response = &given;
+  if (!response_in.empty())
+    given = ResponseCurve::FromJson(ReadJsonFile(response_in), response_in), merge.response = &given;
 
   Stopwatch sw;
   const MergedBracket m = MergeReadBracket(ReadBracket(ExpandBracketInputs(inputs), read), merge);

@@ -19,7 +19,6 @@
 namespace brdfshot {
 namespace po = boost::program_options;
 
-
 int NormalsMain(int argc, char** argv) {
   std::string photo_path, out = "sphere.json", overlay;
   SphereDetectOptions o;
@@ -82,12 +81,15 @@ int NormalsMain(int argc, char** argv) {
     outside += x < 0 || y < 0 || x > rgb.cols || y > rgb.rows;
   }
   if (det.rim_in_shadow)
-    std::fprintf(stderr, "warning: %s: part of the sphere's rim is in shadow; found from log-luminance edges, "
+    std::fprintf(stderr,
+                 "warning: %s: part of the sphere's rim is in shadow; found from log-luminance edges, "
                  "expect ~0.5 px instead of ~0.1 px (a photo lit from the camera's side measures it better)\n",
                  photo_path.c_str());
   if (outside > 0)
-    std::fprintf(stderr, "warning: %s: the sphere is cut by the image border (%d %% of its rim outside); "
-                 "the fit uses the visible rim\n", photo_path.c_str(), (outside * 100 + 359) / 360);
+    std::fprintf(stderr,
+                 "warning: %s: the sphere is cut by the image border (%d %% of its rim outside); "
+                 "the fit uses the visible rim\n",
+                 photo_path.c_str(), (outside * 100 + 359) / 360);
   SphereView v;
   v.width = rgb.cols;
   v.height = rgb.rows;
@@ -98,9 +100,12 @@ int NormalsMain(int argc, char** argv) {
   v.cone = det.cone;
   nlohmann::json j = v.ToJson();
   j["photo"] = photo_path;
-  j["fit"] = {{"edge_points", det.quality.points}, {"inliers", det.quality.inliers}, {"rms_px", det.quality.rms_px},
+  j["fit"] = {{"edge_points", det.quality.points},
+              {"inliers", det.quality.inliers},
+              {"rms_px", det.quality.rms_px},
               {"rim_in_shadow", det.rim_in_shadow},
-              {"blur_sigma_px", det.blur_sigma}, {"coarse", {det.coarse.cx, det.coarse.cy, det.coarse.r}},
+              {"blur_sigma_px", det.blur_sigma},
+              {"coarse", {det.coarse.cx, det.coarse.cy, det.coarse.r}},
               {"seconds", secs}};
   WriteFileAtomic(out, [&](std::ostream& s) { s << j.dump(1) << "\n"; });
   if (!normal_map_out.empty()) {
@@ -121,13 +126,14 @@ int NormalsMain(int argc, char** argv) {
              cv::LINE_AA, 4);
   WritePng(overlay, png);
   const std::string camera =
-      v.perspective ? "perspective, f " + std::to_string(static_cast<int>(std::lround(v.focal_px))) + " px " + focal_from
-                    : "orthographic";
-  std::printf("sphere in %s: centre (%.2f, %.2f) radius %.2f px (%s), %d/%d rim points, rms %.3f px, blur %.2f px, %.0f ms\n"
-              "wrote %s, %s\n",
-              photo_path.c_str(), v.circle.cx, v.circle.cy, v.circle.r, camera.c_str(),
-              det.quality.inliers, det.quality.points, det.quality.rms_px, det.blur_sigma, 1000 * secs, out.c_str(),
-              overlay.c_str());
+      v.perspective
+          ? "perspective, f " + std::to_string(static_cast<int>(std::lround(v.focal_px))) + " px " + focal_from
+          : "orthographic";
+  std::printf(
+      "sphere in %s: centre (%.2f, %.2f) radius %.2f px (%s), %d/%d rim points, rms %.3f px, blur %.2f px, %.0f ms\n"
+      "wrote %s, %s\n",
+      photo_path.c_str(), v.circle.cx, v.circle.cy, v.circle.r, camera.c_str(), det.quality.inliers, det.quality.points,
+      det.quality.rms_px, det.blur_sigma, 1000 * secs, out.c_str(), overlay.c_str());
   return 0;
 }
 

@@ -61,7 +61,8 @@ int RemapMain(int argc, char** argv) {
   if (!ParseOptions("remap", "--photo P (--sphere S | --normal-map N [--mask M]) [--calib C] [options]", desc, argc,
                     argv))
     return 0;
-  if (sphere_path.empty() == normal_map_path.empty()) throw Error("remap: give exactly one of --sphere and --normal-map");
+  if (sphere_path.empty() == normal_map_path.empty())
+    throw Error("remap: give exactly one of --sphere and --normal-map");
   if (!object_mask_path.empty() && normal_map_path.empty()) throw Error("remap: --mask goes with --normal-map");
   const cv::Mat photo = ReadHdrImage(photo_path);
   auto check_size = [&](const std::string& path, cv::Size size) {
@@ -112,10 +113,16 @@ int RemapMain(int argc, char** argv) {
     const cv::Vec3f v = photo.at<cv::Vec3f>(obs.geometry.y[p], obs.geometry.x[p]);
     for (int c = 0; c < 3; ++c) obs.rgb(p, c) = v[c] / scale[c];
   }
-  obs.header = {{"photo", photo_path}, {"sphere", sphere_path}, {"normal_map", normal_map_path},
-                {"mask", object_mask_path}, {"calib", calib_path},
-                {"probe", probe_name}, {"unreliable", unreliable_path},
-                {"margin_deg", mask.max_angle_deg}, {"rim_px", mask.rim_margin_px}, {"scale", {scale[0], scale[1], scale[2]}},
+  obs.header = {{"photo", photo_path},
+                {"sphere", sphere_path},
+                {"normal_map", normal_map_path},
+                {"mask", object_mask_path},
+                {"calib", calib_path},
+                {"probe", probe_name},
+                {"unreliable", unreliable_path},
+                {"margin_deg", mask.max_angle_deg},
+                {"rim_px", mask.rim_margin_px},
+                {"scale", {scale[0], scale[1], scale[2]}},
                 {"command", CommandLine(argc, argv)}};
   obs.Write(out);
   std::printf("%zu pixels of %s in the probe frame (divided by scale %g %g %g)\nwrote %s\n", obs.geometry.size(),

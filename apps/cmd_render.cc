@@ -33,8 +33,8 @@ int RenderMain(int argc, char** argv) {
   src.Add(desc);
   db.Add(desc);
   quality.Add(desc);
-  if (!ParseOptions("render", "--probe P (--merl F | --standin N | --nbrdf N | --weights fit.json) [options]",
-                    desc, argc, argv))
+  if (!ParseOptions("render", "--probe P (--merl F | --standin N | --nbrdf N | --weights fit.json) [options]", desc,
+                    argc, argv))
     return 0;
   Stopwatch sw;
   std::string label;

@@ -49,8 +49,10 @@ std::vector<std::pair<std::string, double>> StageTimes(const std::string& path) 
     const std::string key = cmd + (out.empty() ? "" : " → " + out);
     const double t = std::atof(line.c_str());
     auto it = std::find_if(rows.begin(), rows.end(), [&](const auto& r) { return r.first == key; });
-    if (it == rows.end()) rows.push_back({key, t});
-    else it->second = t;
+    if (it == rows.end())
+      rows.push_back({key, t});
+    else
+      it->second = t;
   }
   return rows;
 }
@@ -74,7 +76,9 @@ int ReportMain(int argc, char** argv) {
   if (title.empty()) title = fs::absolute(r).lexically_normal().filename().string();
   const fs::path pics = r / "report";
   fs::create_directories(pics);
-  auto rel = [&](const fs::path& p) { return fs::relative(p, fs::path(out).parent_path().empty() ? "." : fs::path(out).parent_path()).string(); };
+  auto rel = [&](const fs::path& p) {
+    return fs::relative(p, fs::path(out).parent_path().empty() ? "." : fs::path(out).parent_path()).string();
+  };
   std::ostringstream md;
   std::string summary;  // the error against the truth, for the terminal
   md << "# brdfshot report: " << title << "\n\n";
@@ -84,14 +88,15 @@ int ReportMain(int argc, char** argv) {
   if (fs::exists(photo)) {
     const cv::Mat img = ReadHdrImage(photo.string());
     WritePngTonemapped((pics / "photo.png").string(), img, AutoExposure(img));
-    md << "| merged photo | sphere found (rim points green, fit red) |\n|---|---|\n| ![photo](" << rel(pics / "photo.png")
-       << ") | ![sphere](" << rel(r / "sphere.png") << ") |\n\n";
+    md << "| merged photo | sphere found (rim points green, fit red) |\n|---|---|\n| ![photo]("
+       << rel(pics / "photo.png") << ") | ![sphere](" << rel(r / "sphere.png") << ") |\n\n";
   }
   md << "## Capture\n\n";
   if (fs::exists(r / "photo.json")) {
     const nlohmann::json m = ReadJsonFile((r / "photo.json").string());
-    md << "- photo: " << m["frames"].size() << (m["frames"].size() == 1 ? " frame" : " frames") << " merged (" << (m.value("raw", false) ? "RAW" : m["response"].value("kind", "?"))
-       << " response), " << 100 * m.value("unreliable_fraction", 0.0) << " % of pixels unreliable\n";
+    md << "- photo: " << m["frames"].size() << (m["frames"].size() == 1 ? " frame" : " frames") << " merged ("
+       << (m.value("raw", false) ? "RAW" : m["response"].value("kind", "?")) << " response), "
+       << 100 * m.value("unreliable_fraction", 0.0) << " % of pixels unreliable\n";
   }
   if (fs::exists(r / "probe.json")) {
     const nlohmann::json c = ReadJsonFile((r / "probe.json").string());
@@ -115,9 +120,11 @@ int ReportMain(int argc, char** argv) {
          << " rim points, rms " << Fixed(j["fit"].value("rms_px", 0.0), 3) << " px, blur "
          << Fixed(j["fit"].value("blur_sigma_px", 0.0), 2) << " px\n";
     if (synthetic && fs::exists(truth_dir / "sphere.json")) {
-      const SphereView t = SphereView::FromJson(ReadJsonFile((truth_dir / "sphere.json").string()), (truth_dir / "sphere.json").string());
-      md << "- against the truth: centre off by " << Fixed(std::hypot(v.circle.cx - t.circle.cx, v.circle.cy - t.circle.cy), 3)
-         << " px, radius by " << Fixed(v.circle.r - t.circle.r, 3) << " px\n";
+      const SphereView t = SphereView::FromJson(ReadJsonFile((truth_dir / "sphere.json").string()),
+                                                (truth_dir / "sphere.json").string());
+      md << "- against the truth: centre off by "
+         << Fixed(std::hypot(v.circle.cx - t.circle.cx, v.circle.cy - t.circle.cy), 3) << " px, radius by "
+         << Fixed(v.circle.r - t.circle.r, 3) << " px\n";
     }
   }
 
@@ -125,11 +132,14 @@ int ReportMain(int argc, char** argv) {
   const fs::path fit_json = r / "fit" / "fit.json";
   if (fs::exists(fit_json)) {
     const FitRecord f = FitRecord::Read(fit_json.string());
-    md << "\n## Fit\n\n- database: " << f.database << ", " << f.bases.size() << " bases\n- regularisation λ = "
-       << f.lambda << " (" << (f.lambda_rule == "fixed" ? std::string("fixed by --lambda") : "chosen by " + f.lambda_rule + " on the photo's pixels")
+    md << "\n## Fit\n\n- database: " << f.database << ", " << f.bases.size()
+       << " bases\n- regularisation λ = " << f.lambda << " ("
+       << (f.lambda_rule == "fixed" ? std::string("fixed by --lambda")
+                                    : "chosen by " + f.lambda_rule + " on the photo's pixels")
        << "); predicted relit error " << Fixed(f.predicted_relit_error, 4) << "\n- chosen class **" << f.chosen_class
        << "**, relative residual " << f.relative_residual << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary")
-       << "` (MERL format), weights `" << rel(fit_json) << "`\n\n| class | bases | residual (Σ RGB) | condition (G) | solver |\n|---|---|---|---|---|\n";
+       << "` (MERL format), weights `" << rel(fit_json)
+       << "`\n\n| class | bases | residual (Σ RGB) | condition (G) | solver |\n|---|---|---|---|---|\n";
     std::vector<std::vector<double>> bars;
     std::vector<std::string> groups;
     for (size_t k = 0; k < f.classes.size(); ++k) {
@@ -139,8 +149,10 @@ int ReportMain(int argc, char** argv) {
       bars.push_back({c.residual});
       groups.push_back("class " + std::to_string(k));
     }
-    WritePng((pics / "residuals.png").string(), BarPlot(bars, groups, {"residual"}, "residual per class (lowest is chosen)"));
-    md << "\n![residuals](" << rel(pics / "residuals.png") << ")\n\nphoto (left) and the fit in the photo's lighting (right):\n\n![photo vs fit]("
+    WritePng((pics / "residuals.png").string(),
+             BarPlot(bars, groups, {"residual"}, "residual per class (lowest is chosen)"));
+    md << "\n![residuals](" << rel(pics / "residuals.png")
+       << ")\n\nphoto (left) and the fit in the photo's lighting (right):\n\n![photo vs fit]("
        << rel(r / "fit" / "photo_vs_fit.png") << ")\n";
   }
 
@@ -168,7 +180,8 @@ int ReportMain(int argc, char** argv) {
         summary += (summary.empty() ? "" : ", ") + probe + " " + err;
       }
       WritePngTonemapped((pics / ("relit_" + probe + ".png")).string(), shown, AutoExposure(shown));
-      md << "- " << probe << ": " << caption << "\n\n  ![" << probe << "](" << rel(pics / ("relit_" + probe + ".png")) << ")\n\n";
+      md << "- " << probe << ": " << caption << "\n\n  ![" << probe << "](" << rel(pics / ("relit_" + probe + ".png"))
+         << ")\n\n";
     }
   }
 
@@ -184,8 +197,8 @@ int ReportMain(int argc, char** argv) {
   }
   WriteFileAtomic(out, [&](std::ostream& o) { o << md.str(); });
   std::printf("\nBRDF (MERL format): %s\npreviews: %s/, %s/\nreport: %s (pictures in %s/)\n",
-              (r / "fit" / "brdf.binary").string().c_str(), (r / "fit").string().c_str(), (r / "relit").string().c_str(),
-              out.c_str(), pics.string().c_str());
+              (r / "fit" / "brdf.binary").string().c_str(), (r / "fit").string().c_str(),
+              (r / "relit").string().c_str(), out.c_str(), pics.string().c_str());
   if (!summary.empty()) std::printf("relit error against the truth (relative RMSE): %s\n", summary.c_str());
   return 0;
 }

@@ -96,8 +96,8 @@ int SynthCaptureMain(int argc, char** argv) {
   src.Add(desc);
   db.Add(desc);
   quality.Add(desc);
-  if (!ParseOptions("synth-capture", "--probe P (--standin N | --nbrdf N | --merl F) -o DIR [options]", desc,
-                    argc, argv))
+  if (!ParseOptions("synth-capture", "--probe P (--standin N | --nbrdf N | --merl F) -o DIR [options]", desc, argc,
+                    argv))
     return 0;
   if (format_name != "jpg" && format_name != "png16")
     throw Error("unknown --format '" + format_name + "': expected jpg or png16");
@@ -124,7 +124,7 @@ int SynthCaptureMain(int argc, char** argv) {
   fs::create_directories(dir / "truth");
   const std::vector<double> photo_times = CoveringBracketTimes(photo.radiance, stops);
   const auto photo_frames = WriteBracket(photo.radiance, photo_times, camera, format, dir / "photo", "IMG_",
-                                          shot.focal_px * 36 / std::max(shot.width, shot.height));
+                                         shot.focal_px * 36 / std::max(shot.width, shot.height));
   // The probe shot with the same camera (a lat-long panorama bracket), so the
   // merged probe and photo share one response and hence one radiometric scale.
   const LatLongProbe pano = probe.Resized(probe_width);
@@ -141,8 +141,8 @@ int SynthCaptureMain(int argc, char** argv) {
     // it: a mirror ball's rim need not stand out from its surround.
     const int pad = std::max(8, mirror_ball / 10), side = mirror_ball + 2 * pad;
     const double r = mirror_ball / 2.0, c = side / 2.0;
-    const BallCamera lens = BallCamera::Perspective(side, side, shot.focal_px, {c, c}, Vec3(0, 0, -1),
-                                                    std::atan(r / shot.focal_px));
+    const BallCamera lens =
+        BallCamera::Perspective(side, side, shot.focal_px, {c, c}, Vec3(0, 0, -1), std::atan(r / shot.focal_px));
     WriteExr((dir / "ball.exr").string(), RenderMirrorBall(probe.Rotated(shot.camera_to_probe), lens));
     ball_circle = std::to_string(c) + "," + std::to_string(c) + "," + std::to_string(r);
   }
@@ -152,13 +152,24 @@ int SynthCaptureMain(int argc, char** argv) {
                   [&](std::ostream& o) { o << photo.view.ToJson().dump(1) << "\n"; });
   const std::string truth_args = src.ToArgs(db);
   const std::string cmdline = CommandLine(argc, argv);
-  const nlohmann::json truth = {
-      {"format", "brdfshot-synthetic-capture-1"}, {"material", label}, {"material_args", truth_args},
-      {"probe", probe_path}, {"yaw_pitch_roll_deg", ypr}, {"rotation_camera_to_probe", shot.camera_to_probe.m},
-      {"sphere", photo.view.ToJson()}, {"photo_times", photo_times}, {"probe_times", probe_times},
-      {"camera", {{"gamma", camera.gamma}, {"shoulder", camera.shoulder}, {"full_well", camera.full_well},
-                  {"read_noise", camera.read_noise}, {"raw_bits", camera.raw_bits}, {"seed", camera.seed}}},
-      {"render_quality", quality.q.Describe()}, {"command", cmdline}};
+  const nlohmann::json truth = {{"format", "brdfshot-synthetic-capture-1"},
+                                {"material", label},
+                                {"material_args", truth_args},
+                                {"probe", probe_path},
+                                {"yaw_pitch_roll_deg", ypr},
+                                {"rotation_camera_to_probe", shot.camera_to_probe.m},
+                                {"sphere", photo.view.ToJson()},
+                                {"photo_times", photo_times},
+                                {"probe_times", probe_times},
+                                {"camera",
+                                 {{"gamma", camera.gamma},
+                                  {"shoulder", camera.shoulder},
+                                  {"full_well", camera.full_well},
+                                  {"read_noise", camera.read_noise},
+                                  {"raw_bits", camera.raw_bits},
+                                  {"seed", camera.seed}}},
+                                {"render_quality", quality.q.Describe()},
+                                {"command", cmdline}};
   WriteFileAtomic((dir / "truth" / "truth.json").string(), [&](std::ostream& o) { o << truth.dump(1) << "\n"; });
   // The capture's config, in Make syntax so samples/Makefile can include it;
   // a real capture folder has the same file, written by hand.
@@ -169,19 +180,21 @@ int SynthCaptureMain(int argc, char** argv) {
       << "ROTATE       = " << rotate << "\n"
       << (mirror_ball > 0 ? "# The pipeline estimates the rotation from this mirror-ball photo (ROTATE, the\n"
                             "# truth, is then used only by PERFECT=1 runs); it was shot with the photo's lens.\n"
-                            "BALL_FILE    = ball.exr\nBALL_CIRCLE  = " + ball_circle + "\n"
+                            "BALL_FILE    = ball.exr\nBALL_CIRCLE  = " +
+                                ball_circle + "\n"
                           : "");
     if (mirror_ball > 0) o << "BALL_FOCAL_PX = " << shot.focal_px << "\n";
     o << "PROBE_LAYOUT = latlong\n"
       << "# Synthetic only: the true material, for the report's error against the truth.\n"
       << "TRUTH        = " << truth_args << "\n";
   });
-  std::printf("synthetic capture of %s under %s: sphere r %.1f px at (%.1f, %.1f) in %dx%d, f %.0f px\n"
-              "photo: %zu frames (%s, %g stops), probe: %zu frames of %dx%d; %.2f s\nwrote %s/{capture.mk, photo/, probe/, truth/%s}\n",
-              label.c_str(), probe.name().c_str(), photo.view.circle.r, photo.view.circle.cx, photo.view.circle.cy,
-              shot.width, shot.height, shot.focal_px, photo_frames.size(), format_name.c_str(), stops,
-              probe_frames.size(), pano.width(), pano.height(), sw.Seconds(), out.c_str(),
-              mirror_ball > 0 ? ", ball.exr" : "");
+  std::printf(
+      "synthetic capture of %s under %s: sphere r %.1f px at (%.1f, %.1f) in %dx%d, f %.0f px\n"
+      "photo: %zu frames (%s, %g stops), probe: %zu frames of %dx%d; %.2f s\nwrote %s/{capture.mk, photo/, probe/, "
+      "truth/%s}\n",
+      label.c_str(), probe.name().c_str(), photo.view.circle.r, photo.view.circle.cx, photo.view.circle.cy, shot.width,
+      shot.height, shot.focal_px, photo_frames.size(), format_name.c_str(), stops, probe_frames.size(), pano.width(),
+      pano.height(), sw.Seconds(), out.c_str(), mirror_ball > 0 ? ", ball.exr" : "");
   return 0;
 }
 

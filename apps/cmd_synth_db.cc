@@ -53,8 +53,8 @@ int SynthDbMain(int argc, char** argv) {
     table[keep[i]].ToMerl(opt.grid).Write(OutPath(a.out, names[keep[i]]));
     progress.Step();
   }
-  std::printf("wrote %zu stand-in (analytic) materials, grid %dx%dx%d, to %s\n", keep.size(),
-              opt.grid.n_th, opt.grid.n_td, opt.grid.n_pd, a.out.c_str());
+  std::printf("wrote %zu stand-in (analytic) materials, grid %dx%dx%d, to %s\n", keep.size(), opt.grid.n_th,
+              opt.grid.n_td, opt.grid.n_pd, a.out.c_str());
   return 0;
 }
 
@@ -73,8 +73,8 @@ int NbrdfDbMain(int argc, char** argv) {
     NbrdfToMerl(net, opt.grid).Write(OutPath(a.out, names[k]));
     progress.Step();
   }
-  std::printf("wrote %zu materials of MERL (NBRDF approximation), grid %dx%dx%d, to %s\n",
-              keep.size(), opt.grid.n_th, opt.grid.n_td, opt.grid.n_pd, a.out.c_str());
+  std::printf("wrote %zu materials of MERL (NBRDF approximation), grid %dx%dx%d, to %s\n", keep.size(), opt.grid.n_th,
+              opt.grid.n_td, opt.grid.n_pd, a.out.c_str());
   return 0;
 }
 

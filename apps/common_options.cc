@@ -41,8 +41,8 @@ MerlGrid ParseGrid(const std::string& text) {
   MerlGrid g;
   char x1 = 0, x2 = 0;
   std::istringstream s(text);
-  if (!(s >> g.n_th >> x1 >> g.n_td >> x2 >> g.n_pd) || x1 != 'x' || x2 != 'x' || g.n_th <= 0 ||
-      g.n_td <= 0 || g.n_pd <= 0 || g.n_th > 1000 || g.n_td > 1000 || g.n_pd > 2000)
+  if (!(s >> g.n_th >> x1 >> g.n_td >> x2 >> g.n_pd) || x1 != 'x' || x2 != 'x' || g.n_th <= 0 || g.n_td <= 0 ||
+      g.n_pd <= 0 || g.n_th > 1000 || g.n_td > 1000 || g.n_pd > 2000)
     throw Error("bad --grid '" + text + "': expected e.g. 90x90x180");
   return g;
 }
@@ -85,7 +85,8 @@ std::vector<double> ParseLambdaGrid(const std::string& text) {
   std::vector<double> grid = ParseNumberList(text, parts.size(), "--lambda-grid", "comma-separated numbers ≥ 0");
   if (grid.empty()) throw Error("bad --lambda-grid '" + text + "': give at least one value");
   for (double v : grid)
-    if (!(v >= 0 && std::isfinite(v))) throw Error("bad --lambda-grid '" + text + "': every value must be finite and ≥ 0");
+    if (!(v >= 0 && std::isfinite(v)))
+      throw Error("bad --lambda-grid '" + text + "': every value must be finite and ≥ 0");
   return grid;
 }
 

@@ -18,23 +18,31 @@ namespace po = boost::program_options;
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> kCommands = {
-      {"synth-capture", "a synthetic capture folder: bracketed JPEGs of a known material on a sphere, the probe's bracket, the truth", SynthCaptureMain},
+      {"synth-capture",
+       "a synthetic capture folder: bracketed JPEGs of a known material on a sphere, the probe's bracket, the truth",
+       SynthCaptureMain},
       {"merge", "bracketed frames (LDR + EXIF/times, or RAW) to linear HDR EXR + mask + sidecar", MergeMain},
-      {"calib", "light probe to lat-long (lat-long, angular map, mirror ball), rotation and scale to the camera", CalibMain},
+      {"calib", "light probe to lat-long (lat-long, angular map, mirror ball), rotation and scale to the camera",
+       CalibMain},
       {"normals", "find the sphere in a photo to sub-pixel accuracy: sphere file + overlay", NormalsMain},
-      {"remap", "photo + sphere + calibration -> observation file (radiance, normal, view in the probe frame)", RemapMain},
+      {"remap", "photo + sphere + calibration -> observation file (radiance, normal, view in the probe frame)",
+       RemapMain},
       {"synth-db", "write the analytic stand-in materials as MERL .binary files", SynthDbMain},
       {"nbrdf-db", "write MERL's materials from their neural fits as MERL .binary files", NbrdfDbMain},
       {"render", "render one BRDF on a sphere under a probe (EXR + PNG)", RenderMain},
       {"basis", "basis images of a scene (every basis BRDF under the probe), cached", BasisMain},
       {"cluster", "class model of the database: SVD + GMM, MDS picture (paper sec. 3)", ClusterMain},
       {"fit", "fit a photo: class-wise regularised solve, BRDF + previews", FitMain},
-      {"report", "one capture's results as markdown + pictures: photo, sphere, class and residuals, relit vs truth, stage times", ReportMain},
+      {"report",
+       "one capture's results as markdown + pictures: photo, sphere, class and residuals, relit vs truth, stage times",
+       ReportMain},
       {"compare", "relative RMSE of one linear image against a reference", CompareMain},
       {"bench-merge", "HDR merge against ground truth, beside OpenCV's Debevec and Robertson", BenchMergeMain, true},
-      {"bench-detect", "sphere detection vs known truth, beside OpenCV HoughCircles alone (error and time)", BenchDetectMain, true},
+      {"bench-detect", "sphere detection vs known truth, beside OpenCV HoughCircles alone (error and time)",
+       BenchDetectMain, true},
       {"bench-basis", "basis images: speed against error vs a cached converged reference", BenchBasisMain, true},
-      {"eval", "the fit on unseen lighting and materials, against its baselines (evaluation sets a and b)", EvalMain, true},
+      {"eval", "the fit on unseen lighting and materials, against its baselines (evaluation sets a and b)", EvalMain,
+       true},
   };
   return kCommands;
 }
@@ -45,8 +53,8 @@ std::string CommandLine(int argc, char** argv) {
   return line;
 }
 
-bool ParseOptions(const std::string& command, const std::string& usage, po::options_description& desc,
-                  int argc, char** argv, po::positional_options_description* positional) {
+bool ParseOptions(const std::string& command, const std::string& usage, po::options_description& desc, int argc,
+                  char** argv, po::positional_options_description* positional) {
   // clang-format off
   desc.add_options()("help,h", "show this help");
   // clang-format on
@@ -55,7 +63,7 @@ bool ParseOptions(const std::string& command, const std::string& usage, po::opti
   std::set<std::string> names;
   for (const auto& o : desc.options())
     BRDFSHOT_CHECK(names.insert(o->long_name()).second,
-                       "brdfshot " + command + " registers --" + o->long_name() + " twice");
+                   "brdfshot " + command + " registers --" + o->long_name() + " twice");
   po::variables_map vm;
   try {
     po::command_line_parser parser(argc, argv);
@@ -76,8 +84,9 @@ bool ParseOptions(const std::string& command, const std::string& usage, po::opti
 }  // namespace brdfshot
 
 static void PrintUsage() {
-  std::printf("brdfshot — BRDF from one photo of a sphere under known lighting\n\n"
-              "usage: brdfshot <command> [options]   (brdfshot <command> --help)\n\ncommands:\n");
+  std::printf(
+      "brdfshot — BRDF from one photo of a sphere under known lighting\n\n"
+      "usage: brdfshot <command> [options]   (brdfshot <command> --help)\n\ncommands:\n");
   for (const auto& c : brdfshot::Commands())
     if (!c.developer_tool) std::printf("  %-14s %s\n", c.name, c.summary);
   std::printf("\ndeveloper tools (benchmarks and the evaluation, docs/benchmarks.md):\n");
@@ -95,8 +104,9 @@ static void LogStageTime(int argc, char** argv, double seconds) {
   if (!log || !*log) return;
   const std::string line = std::to_string(seconds) + "\t" + brdfshot::CommandLine(argc - 1, argv + 1) + "\n";
   const int fd = ::open(log, O_WRONLY | O_CREAT | O_APPEND, 0644);
-  if (fd < 0) return;  // timing is a convenience: never fail a stage over it
-  if (::write(fd, line.data(), line.size()) < 0) { /* same */ }
+  if (fd < 0) return;                              // timing is a convenience: never fail a stage over it
+  if (::write(fd, line.data(), line.size()) < 0) { /* same */
+  }
   ::close(fd);
 }
 

@@ -32,7 +32,8 @@ SyntheticPhoto RenderSphereShot(const MerlBrdf& brdf, const LatLongProbe& probe,
   // Background: the environment along each pixel's ray (probe frame).
   for (int y = 0; y < s.height; ++y)
     for (int x = 0; x < s.width; ++x)
-      img.at<cv::Vec3f>(y, x) = probe.Bilinear(s.camera_to_probe(PixelRay({x + 0.5, y + 0.5}, v.focal_px, v.principal)));
+      img.at<cv::Vec3f>(y, x) =
+          probe.Bilinear(s.camera_to_probe(PixelRay({x + 0.5, y + 0.5}, v.focal_px, v.principal)));
 
   // Sphere samples: one per pixel inside, rim_supersample² where the rim
   // crosses the pixel, all rendered in one operator, then box-filtered.

@@ -16,12 +16,12 @@ namespace brdfshot {
 
 struct SphereShot {
   int width = 640, height = 480;
-  double focal_px = 900;           // about a 50 mm lens on a 36 mm-wide sensor at 640 px
-  double radius_px = 110;          // apparent radius of the sphere
-  cv::Point2d centre_px{350, 230}; // where the sphere's centre appears
+  double focal_px = 900;            // about a 50 mm lens on a 36 mm-wide sensor at 640 px
+  double radius_px = 110;           // apparent radius of the sphere
+  cv::Point2d centre_px{350, 230};  // where the sphere's centre appears
   Rotation camera_to_probe;
-  double blur_sigma = 0.6;         // lens blur, px
-  int rim_supersample = 4;         // per axis, for pixels the rim crosses
+  double blur_sigma = 0.6;  // lens blur, px
+  int rim_supersample = 4;  // per axis, for pixels the rim crosses
 };
 
 struct SyntheticPhoto {

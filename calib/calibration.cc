@@ -32,7 +32,8 @@ Calibration Calibration::FromJson(const nlohmann::json& j, const std::string& so
     c.probe = j.value("probe", "");
     c.width = j.value("width", 0);
     c.camera_to_probe.m = j.at("rotation_camera_to_probe").get<decltype(c.camera_to_probe.m)>();
-    if (j.contains("yaw_pitch_roll_deg")) c.yaw_pitch_roll_deg = j.at("yaw_pitch_roll_deg").get<std::array<double, 3>>();
+    if (j.contains("yaw_pitch_roll_deg"))
+      c.yaw_pitch_roll_deg = j.at("yaw_pitch_roll_deg").get<std::array<double, 3>>();
     // One number for all channels, or R,G,B.
     const nlohmann::json& js = j.at("scale");
     for (int k = 0; k < 3; ++k) c.scale[k] = js.is_array() ? js.at(k).get<double>() : js.get<double>();

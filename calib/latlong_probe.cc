@@ -12,15 +12,15 @@ namespace brdfshot {
 
 LatLongProbe::LatLongProbe(cv::Mat rgb, std::string name) : rgb_(std::move(rgb)), name_(std::move(name)) {
   BRDFSHOT_CHECK(rgb_.type() == CV_32FC3, "probe must be CV_32FC3");
-  BRDFSHOT_CHECK(rgb_.cols == 2 * rgb_.rows && rgb_.rows >= 1, "probe must be 2:1, got "
-                 << rgb_.cols << "x" << rgb_.rows);
+  BRDFSHOT_CHECK(rgb_.cols == 2 * rgb_.rows && rgb_.rows >= 1,
+                 "probe must be 2:1, got " << rgb_.cols << "x" << rgb_.rows);
 }
 
 LatLongProbe LatLongProbe::Read(const std::string& path) {
   cv::Mat rgb = ReadHdrImage(path);
   if (rgb.cols != 2 * rgb.rows)
-    throw FileError(path, "not a lat-long probe: " + std::to_string(rgb.cols) + "x" +
-                              std::to_string(rgb.rows) + " is not 2:1");
+    throw FileError(
+        path, "not a lat-long probe: " + std::to_string(rgb.cols) + "x" + std::to_string(rgb.rows) + " is not 2:1");
   // Lossy EXR compression (DWA, as in the Poly Haven probes) rings slightly below
   // zero next to bright sources; radiance cannot be negative, so clamp.
   cv::max(rgb, 0.0f, rgb);
@@ -113,8 +113,7 @@ LatLongProbe LatLongProbe::Resized(int new_width) const {
 LatLongProbe LatLongProbe::Rotated(const Rotation& to_this) const {
   cv::Mat img(height(), width(), CV_32FC3);
   for (int r = 0; r < img.rows; ++r)
-    for (int c = 0; c < img.cols; ++c)
-      img.at<cv::Vec3f>(r, c) = Bilinear(to_this(DirectionAt(c + 0.5, r + 0.5)));
+    for (int c = 0; c < img.cols; ++c) img.at<cv::Vec3f>(r, c) = Bilinear(to_this(DirectionAt(c + 0.5, r + 0.5)));
   return LatLongProbe(img, name_ + "@rotated");
 }
 
@@ -136,13 +135,11 @@ PrefilteredProbe::PrefilteredProbe(const LatLongProbe& probe) {
     const int h = src.rows / 2, w = src.cols / 2;
     cv::Mat dst(h, w, CV_32FC3);
     for (int r = 0; r < h; ++r) {
-      const double t0 = kPi * (2 * r) / src.rows, t1 = kPi * (2 * r + 1) / src.rows,
-                   t2 = kPi * (2 * r + 2) / src.rows;
+      const double t0 = kPi * (2 * r) / src.rows, t1 = kPi * (2 * r + 1) / src.rows, t2 = kPi * (2 * r + 2) / src.rows;
       const double w0 = std::cos(t0) - std::cos(t1), w1 = std::cos(t1) - std::cos(t2);
       for (int c = 0; c < w; ++c) {
         const cv::Vec3f a = src.at<cv::Vec3f>(2 * r, 2 * c) + src.at<cv::Vec3f>(2 * r, 2 * c + 1);
-        const cv::Vec3f b =
-            src.at<cv::Vec3f>(2 * r + 1, 2 * c) + src.at<cv::Vec3f>(2 * r + 1, 2 * c + 1);
+        const cv::Vec3f b = src.at<cv::Vec3f>(2 * r + 1, 2 * c) + src.at<cv::Vec3f>(2 * r + 1, 2 * c + 1);
         dst.at<cv::Vec3f>(r, c) = (a * w0 + b * w1) / (2 * (w0 + w1));
       }
     }
@@ -171,8 +168,8 @@ inline double FastAtan2(double y, double x) {
   const double mx = std::max(ax, ay), mn = std::min(ax, ay);
   if (mx == 0) return 0;
   const double z = mn / mx, z2 = z * z;
-  double r = z * (0.99997726 + z2 * (-0.33262347 + z2 * (0.19354346 + z2 * (-0.11643287 +
-                  z2 * (0.05265332 + z2 * (-0.01172120))))));
+  double r = z * (0.99997726 +
+                  z2 * (-0.33262347 + z2 * (0.19354346 + z2 * (-0.11643287 + z2 * (0.05265332 + z2 * (-0.01172120))))));
   if (ay > ax) r = kPi / 2 - r;
   if (x < 0) r = kPi - r;
   return y < 0 ? -r : r;
@@ -183,8 +180,9 @@ inline float FastAtan2f(float y, float x) {
   const float ax = std::abs(x), ay = std::abs(y);
   const float mx = std::max(ax, ay), mn = std::min(ax, ay);
   const float z = mn / std::max(mx, 1e-30f), z2 = z * z;
-  float r = z * (0.99997726f + z2 * (-0.33262347f + z2 * (0.19354346f + z2 * (-0.11643287f +
-                 z2 * (0.05265332f + z2 * (-0.01172120f))))));
+  float r =
+      z * (0.99997726f +
+           z2 * (-0.33262347f + z2 * (0.19354346f + z2 * (-0.11643287f + z2 * (0.05265332f + z2 * (-0.01172120f))))));
   r = ay > ax ? 1.57079633f - r : r;
   r = x < 0 ? 3.14159265f - r : r;
   return std::copysign(r, y);

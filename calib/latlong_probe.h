@@ -30,10 +30,10 @@ class LatLongProbe {
   const cv::Mat& rgb() const { return rgb_; }
   const std::string& name() const { return name_; }
 
-  Vec3 DirectionAt(double col, double row) const;          // continuous pixel coords
+  Vec3 DirectionAt(double col, double row) const;  // continuous pixel coords
   void PixelAt(const Vec3& dir, double* col, double* row) const;
-  cv::Vec3f Bilinear(const Vec3& dir) const;               // radiance, bilinear, wrapping in longitude
-  double TexelSolidAngle(int row) const;                    // sr
+  cv::Vec3f Bilinear(const Vec3& dir) const;  // radiance, bilinear, wrapping in longitude
+  double TexelSolidAngle(int row) const;      // sr
   cv::Vec3f Texel(int col, int row) const { return rgb_.at<cv::Vec3f>(row, col); }
 
   // Box-resampled to `width`×`width/2` with solid-angle weights (area-preserving
@@ -82,7 +82,7 @@ class PrefilteredProbe {
     std::vector<float> rgb;  // (h + 2) × (w + 2) × 3
   };
   std::vector<PaddedLevel> padded_;
-  double texel0_omega_;          // mean texel solid angle at level 0
+  double texel0_omega_;  // mean texel solid angle at level 0
 };
 
 }  // namespace brdfshot

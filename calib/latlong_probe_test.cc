@@ -46,7 +46,8 @@ TEST(LatLongProbe, RotatedMovesABrightTexelToTheInverseDirection) {
   cv::Mat lum;
   cv::extractChannel(q, lum, 0);
   cv::minMaxLoc(lum, nullptr, nullptr, nullptr, &peak);
-  const double deg = std::acos(std::min(1.0, Dot(p.DirectionAt(peak.x + 0.5, peak.y + 0.5), R.Inverse()(d)))) * 180 / kPi;
+  const double deg =
+      std::acos(std::min(1.0, Dot(p.DirectionAt(peak.x + 0.5, peak.y + 0.5), R.Inverse()(d)))) * 180 / kPi;
   EXPECT_LT(deg, 2.9);  // within one 2.8° texel
   // And back: rotating by R then R⁻¹ returns a smooth probe to within interpolation error.
   cv::Mat smooth(64, 128, CV_32FC3);
@@ -106,12 +107,11 @@ TEST_P(RealProbeTest, ReadsAndIsAPlausibleHdrProbe) {
   EXPECT_GT(hi, 1.0) << "an HDR probe should exceed 1 somewhere";
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    SharedProbes, RealProbeTest,
-    ::testing::Values("envmaps/city.exr", "envmaps/courtyard.exr", "envmaps/forest.exr",
-                      "envmaps/interior.exr", "envmaps/night.exr", "envmaps/studio.exr",
-                      "envmaps/sunrise.exr", "envmaps/sunset.exr",
-                      "real/probes_polyhaven_cc0/studio_small_09_1k.hdr"));
+INSTANTIATE_TEST_SUITE_P(SharedProbes, RealProbeTest,
+                         ::testing::Values("envmaps/city.exr", "envmaps/courtyard.exr", "envmaps/forest.exr",
+                                           "envmaps/interior.exr", "envmaps/night.exr", "envmaps/studio.exr",
+                                           "envmaps/sunrise.exr", "envmaps/sunset.exr",
+                                           "real/probes_polyhaven_cc0/studio_small_09_1k.hdr"));
 
 TEST(LatLongProbe, BadFilesGiveNamedErrors) {
   const std::string dir = std::filesystem::temp_directory_path().string();
@@ -146,7 +146,6 @@ TEST(LatLongProbe, ReadsPfmWrittenByOpenCvInRgbOrder) {
     for (int c = 0; c < 32; c += 7)
       for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(p.Texel(c, r)[k], rgb.at<cv::Vec3f>(r, c)[k]);
 }
-
 
 TEST(PrefilteredProbe, BatchedLookupMatchesTheScalarOne) {
   // The batched path (float, fast log2) against the scalar one (double, libm

@@ -76,8 +76,8 @@ bool BallCamera::Reflecting(const Vec3& d, cv::Point2d* pixel, Vec3* normal, Vec
 }
 
 UnwrappedBall UnwrapMirrorBall(const cv::Mat& photo, const BallCamera& camera, int width, const MirrorBallOptions& o) {
-  BRDFSHOT_CHECK(photo.type() == CV_32FC3 && photo.cols == camera.width && photo.rows == camera.height &&
-                     width >= 4 && width % 2 == 0 && o.reflectance > 0,
+  BRDFSHOT_CHECK(photo.type() == CV_32FC3 && photo.cols == camera.width && photo.rows == camera.height && width >= 4 &&
+                     width % 2 == 0 && o.reflectance > 0,
                  "mirror ball photo must be CV_32FC3 of the camera's size");
   const int height = width / 2;
   const LatLongProbe frame(cv::Mat(height, width, CV_32FC3, cv::Scalar::all(0)));

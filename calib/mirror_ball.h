@@ -50,9 +50,9 @@ struct BallCamera {
 };
 
 struct MirrorBallOptions {
-  double max_normal_deg = 70;   // ball normals further than this from the view are the unreliable rim
-  double camera_hole_deg = 0;   // ball normals this close to the view see the camera (0: keep)
-  double reflectance = 1;       // of the ball (chrome ≈ 0.6–0.8): radiance is divided by it
+  double max_normal_deg = 70;  // ball normals further than this from the view are the unreliable rim
+  double camera_hole_deg = 0;  // ball normals this close to the view see the camera (0: keep)
+  double reflectance = 1;      // of the ball (chrome ≈ 0.6–0.8): radiance is divided by it
 };
 
 struct UnwrappedBall {

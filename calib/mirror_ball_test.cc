@@ -29,7 +29,8 @@ BallCamera OffAxisPerspectiveBall() {
 
 TEST(MirrorBall, MirrorBallRenderUnwrapsBackToTheProbe) {
   const LatLongProbe p = SmoothProbe(256);
-  const UnwrappedBall u = UnwrapMirrorBall(RenderMirrorBall(p, 400), BallCamera::Orthographic(400, 400, 200, 200, 200), 256);
+  const UnwrappedBall u =
+      UnwrapMirrorBall(RenderMirrorBall(p, 400), BallCamera::Orthographic(400, 400, 200, 200, 200), 256);
   const double e = RelRmse(u.probe.rgb(), p.rgb(), u.measured), seen = MeasuredFraction(u);
   std::printf("mirror ball round trip: %.4f relative RMSE over the %.0f %% of directions the ball measured\n", e,
               100 * seen);
@@ -63,8 +64,10 @@ TEST(MirrorBall, PerspectiveReflectingInvertsTrace) {
     ASSERT_TRUE(cam.Reflecting(Reflect(v, n), &back, &n2, &v2)) << px << "," << py;
     worst = std::max(worst, std::hypot(back.x - px, back.y - py));
   }
-  std::printf("perspective ball: reflect(trace(pixel)) lands %.2g px from the pixel at worst (2000 pixels, normals to 85 deg)\n",
-              worst);
+  std::printf(
+      "perspective ball: reflect(trace(pixel)) lands %.2g px from the pixel at worst (2000 pixels, normals to 85 "
+      "deg)\n",
+      worst);
   EXPECT_LT(worst, 1e-6);
 }
 
@@ -84,8 +87,9 @@ TEST(MirrorBall, PerspectiveBallUnwrapsBackToTheProbe) {
                                                     cam.focal_px * std::tan(cam.half_angle) / -a.z);
   const UnwrappedBall w = UnwrapMirrorBall(photo, ortho, 256);
   const double e_ortho = RelRmse(w.probe.rgb(), p.rgb(), w.measured);
-  std::printf("perspective ball (r ~ %.0f px) unwrapped: %.4f relative RMSE, as if orthographic: %.4f; measured %.0f %%\n",
-              ortho.r, e, e_ortho, 100 * MeasuredFraction(u));
+  std::printf(
+      "perspective ball (r ~ %.0f px) unwrapped: %.4f relative RMSE, as if orthographic: %.4f; measured %.0f %%\n",
+      ortho.r, e, e_ortho, 100 * MeasuredFraction(u));
   EXPECT_LT(e, 5e-3);
   EXPECT_GT(e_ortho, 4 * e);
   // Less than the orthographic 88 %: towards the rim the view turns away

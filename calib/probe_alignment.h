@@ -19,9 +19,9 @@
 namespace brdfshot {
 
 struct RotationFit {
-  Rotation rotation;      // camera → probe
+  Rotation rotation;                    // camera → probe
   double yaw = 0, pitch = 0, roll = 0;  // degrees, Rotation::FromYawPitchRoll's convention
-  double rms_log = 0;     // RMS of the log-radiance difference at the optimum (after the offset)
+  double rms_log = 0;                   // RMS of the log-radiance difference at the optimum (after the offset)
 };
 
 // `ball`: the unwrapped mirror ball (camera frame); `measured`: CV_8U, non-zero

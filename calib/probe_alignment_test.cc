@@ -30,9 +30,8 @@ TEST(ProbeAlignment, RecoversAKnownRotationThroughAMirrorBall) {
   const LatLongProbe probe = LatLongProbe::Read(exr);
   for (const auto& ypr : {std::array<double, 3>{37, 0, 0}, {-120, 12, -5}, {75, -20, 8}}) {
     const Rotation truth = Rotation::FromYawPitchRoll(ypr[0], ypr[1], ypr[2]);
-    const UnwrappedBall ball =
-        UnwrapMirrorBall(RenderMirrorBall(InCameraFrame(probe, truth, 0.3f), 400),
-                         BallCamera::Orthographic(400, 400, 200, 200, 200), 256);
+    const UnwrappedBall ball = UnwrapMirrorBall(RenderMirrorBall(InCameraFrame(probe, truth, 0.3f), 400),
+                                                BallCamera::Orthographic(400, 400, 200, 200, 200), 256);
     const RotationFit fit = EstimateRotation(probe, ball.probe, ball.measured);
     const double err = DegreesBetween(fit.rotation, truth);
     std::printf("truth yaw %.0f pitch %.0f roll %.0f -> %.2f %.2f %.2f: %.3f deg off, rms log %.3f\n", ypr[0], ypr[1],

@@ -28,15 +28,15 @@ cv::Vec3d Irradiance(const LatLongProbe& probe, const Vec3& normal) {
   return e;
 }
 
-RadiometricScale ScaleFromReferenceCard(const cv::Mat& photo, const ReferenceCard& card,
-                                        const LatLongProbe& probe, const Rotation& camera_to_probe) {
+RadiometricScale ScaleFromReferenceCard(const cv::Mat& photo, const ReferenceCard& card, const LatLongProbe& probe,
+                                        const Rotation& camera_to_probe) {
   BRDFSHOT_CHECK(photo.type() == CV_32FC3, "reference card: photo must be CV_32FC3");
   const cv::Rect& r = card.region;
   const std::string where = "reference card region " + std::to_string(r.x) + "," + std::to_string(r.y) + "," +
                             std::to_string(r.width) + "," + std::to_string(r.height);
   if (r.width <= 0 || r.height <= 0 || (r & cv::Rect(0, 0, photo.cols, photo.rows)) != r)
-    throw Error(where + " is empty or leaves the " + std::to_string(photo.cols) + "x" +
-                std::to_string(photo.rows) + " photo");
+    throw Error(where + " is empty or leaves the " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows) +
+                " photo");
   if (!(card.albedo > 0 && card.albedo <= 1)) throw Error("reference card albedo must be in (0, 1]");
   RadiometricScale s;
   // Mean and luminance spread in double: a 12 MP card region sums millions of floats.
@@ -60,15 +60,14 @@ RadiometricScale ScaleFromReferenceCard(const cv::Mat& photo, const ReferenceCar
   const cv::Vec3d e = Irradiance(probe, camera_to_probe(card.normal_camera));
   for (int k = 0; k < 3; ++k) {
     if (!(e[k] > 0))
-      throw Error("the probe sends no light onto the reference card (normal " +
-                  std::to_string(card.normal_camera.x) + "," + std::to_string(card.normal_camera.y) + "," +
-                  std::to_string(card.normal_camera.z) + " in the camera frame): check the rotation and the normal");
+      throw Error("the probe sends no light onto the reference card (normal " + std::to_string(card.normal_camera.x) +
+                  "," + std::to_string(card.normal_camera.y) + "," + std::to_string(card.normal_camera.z) +
+                  " in the camera frame): check the rotation and the normal");
     s.predicted[k] = card.albedo / kPi * e[k];
     s.scale[k] = s.measured[k] / s.predicted[k];
   }
   return s;
 }
-
 
 RadiometricScale ScaleFromMergeSidecars(const nlohmann::json& photo_json, const std::string& photo_source,
                                         const nlohmann::json& probe_json, const std::string& probe_source) {
@@ -76,8 +75,8 @@ RadiometricScale ScaleFromMergeSidecars(const nlohmann::json& photo_json, const 
   const MergeSidecar probe = MergeSidecar::FromJson(probe_json, probe_source);
   const cv::Vec3d photo_wb = photo.WhiteBalance(photo_source), probe_wb = probe.WhiteBalance(probe_source);
   if (!photo.camera.empty() && !probe.camera.empty() && photo.camera != probe.camera)
-    throw FileError(photo_source, "is from camera '" + photo.camera + "', " + probe_source + " from '" +
-                                      probe.camera + "': exposure metadata cannot relate two cameras' "
+    throw FileError(photo_source, "is from camera '" + photo.camera + "', " + probe_source + " from '" + probe.camera +
+                                      "': exposure metadata cannot relate two cameras' "
                                       "sensitivities; measure the scale on a reference card (--card)");
   if (photo.raw != probe.raw)
     throw FileError(photo_source, std::string("is ") + (photo.raw ? "RAW" : "developed") + ", " + probe_source +

@@ -27,9 +27,9 @@ namespace brdfshot {
 cv::Vec3d Irradiance(const LatLongProbe& probe, const Vec3& normal);
 
 struct ReferenceCard {
-  cv::Rect region;                 // pixels of the card in the photo
-  double albedo = 0.18;            // diffuse reflectance (a photographer's grey card)
-  Vec3 normal_camera{0, 0, 1};     // card normal in the camera frame (+Z: facing the camera)
+  cv::Rect region;              // pixels of the card in the photo
+  double albedo = 0.18;         // diffuse reflectance (a photographer's grey card)
+  Vec3 normal_camera{0, 0, 1};  // card normal in the camera frame (+Z: facing the camera)
 };
 
 struct RadiometricScale {
@@ -44,8 +44,8 @@ struct RadiometricScale {
 // `photo`: CV_32FC3 linear RGB. Error (naming the problem) when the region is
 // empty or leaves the photo, holds no finite pixel, the mean is not positive,
 // or the card receives no light from the probe (E = 0 in some channel).
-RadiometricScale ScaleFromReferenceCard(const cv::Mat& photo, const ReferenceCard& card,
-                                        const LatLongProbe& probe, const Rotation& camera_to_probe);
+RadiometricScale ScaleFromReferenceCard(const cv::Mat& photo, const ReferenceCard& card, const LatLongProbe& probe,
+                                        const Rotation& camera_to_probe);
 
 }  // namespace brdfshot
 

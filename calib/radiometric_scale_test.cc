@@ -56,9 +56,8 @@ TEST(RadiometricScale, RecoversAKnownScalePerChannelFromAGreyCard) {
   const cv::Vec3f L(2, 1, 0.5);
   const cv::Rect region(10, 20, 15, 12);
   const cv::Vec3f value(0.18 * L[0] * k[0], 0.18 * L[1] * k[1], 0.18 * L[2] * k[2]);
-  const RadiometricScale s =
-      ScaleFromReferenceCard(PhotoWithCard(region, value), {region, 0.18, {0, 0, 1}}, ConstantProbe(L[0], L[1], L[2]),
-                             Rotation{});
+  const RadiometricScale s = ScaleFromReferenceCard(PhotoWithCard(region, value), {region, 0.18, {0, 0, 1}},
+                                                    ConstantProbe(L[0], L[1], L[2]), Rotation{});
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.scale[c] / k[c], 1, 2e-3) << c;
   EXPECT_EQ(s.pixels, region.area());
   EXPECT_LT(s.spread, 1e-5);
@@ -78,13 +77,13 @@ TEST(RadiometricScale, TheCardNormalGoesThroughTheCameraToProbeRotation) {
   ASSERT_GT(Dot(yaw(Vec3(0, 0, 1)), Vec3(1, 0, 0)), 0.999);
   const cv::Rect region(5, 5, 10, 10);
   const float v = static_cast<float>(0.5 / kPi * 5 * 7);  // albedo 0.5, E = 5, k = 7
-  const RadiometricScale s = ScaleFromReferenceCard(PhotoWithCard(region, {v, v, v}), {region, 0.5, {0, 0, 1}},
-                                                    probe, yaw);
+  const RadiometricScale s =
+      ScaleFromReferenceCard(PhotoWithCard(region, {v, v, v}), {region, 0.5, {0, 0, 1}}, probe, yaw);
   EXPECT_NEAR(s.scale[0], 7, 7 * 3e-3);
   // Tilted card: 60° from the sun in the camera frame's XZ plane → E = 5 cos 60°.
-  const RadiometricScale t = ScaleFromReferenceCard(
-      PhotoWithCard(region, {v / 2, v / 2, v / 2}),
-      {region, 0.5, {std::sin(kPi / 3), 0, std::cos(kPi / 3)}}, probe, yaw);
+  const RadiometricScale t =
+      ScaleFromReferenceCard(PhotoWithCard(region, {v / 2, v / 2, v / 2}),
+                             {region, 0.5, {std::sin(kPi / 3), 0, std::cos(kPi / 3)}}, probe, yaw);
   EXPECT_NEAR(t.scale[1], 7, 7 * 5e-3);
 }
 
@@ -121,7 +120,10 @@ nlohmann::json MergeSidecarJson(bool raw, const std::string& camera, const Respo
                                 std::array<double, 3> wb = {1, 1, 1}) {
   nlohmann::json frames = nlohmann::json::array();
   for (int k = 0; k < 3; ++k) frames.push_back({{"file", "f" + std::to_string(k)}, {"wb", wb}});
-  return {{"format", "brdfshot-merge-1"}, {"raw", raw}, {"camera", camera}, {"frames", frames},
+  return {{"format", "brdfshot-merge-1"},
+          {"raw", raw},
+          {"camera", camera},
+          {"frames", frames},
           {"response", response.ToJson()}};
 }
 
@@ -135,8 +137,9 @@ ResponseCurve Gamma(double gamma, std::array<double, 3> gain) {
 
 TEST(ScaleFromMergeSidecars, RawIsTheRatioOfTheWhiteBalances) {
   const ResponseCurve lin = ResponseCurve::Linear16();
-  const RadiometricScale s = ScaleFromMergeSidecars(MergeSidecarJson(true, "Kodak DCS", lin, {2.0, 1.0, 1.5}), "p.json",
-                                                    MergeSidecarJson(true, "Kodak DCS", lin, {1.6, 1.0, 2.0}), "q.json");
+  const RadiometricScale s =
+      ScaleFromMergeSidecars(MergeSidecarJson(true, "Kodak DCS", lin, {2.0, 1.0, 1.5}), "p.json",
+                             MergeSidecarJson(true, "Kodak DCS", lin, {1.6, 1.0, 2.0}), "q.json");
   EXPECT_DOUBLE_EQ(s.scale[0], 1.25);
   EXPECT_DOUBLE_EQ(s.scale[1], 1.0);
   EXPECT_DOUBLE_EQ(s.scale[2], 0.75);
@@ -150,8 +153,8 @@ TEST(ScaleFromMergeSidecars, DevelopedFramesGiveTheRatioOfTheResponses) {
   for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(same.scale[c], 1);
   EXPECT_DOUBLE_EQ(same.spread, 0);
   // Curves recovered separately, normalised differently per channel: their gains.
-  const RadiometricScale gains = ScaleFromMergeSidecars(MergeSidecarJson(false, "cam", Gamma(2.2, {2, 1, 0.5})), "p.json",
-                                                        MergeSidecarJson(false, "cam", r), "q.json");
+  const RadiometricScale gains = ScaleFromMergeSidecars(MergeSidecarJson(false, "cam", Gamma(2.2, {2, 1, 0.5})),
+                                                        "p.json", MergeSidecarJson(false, "cam", r), "q.json");
   EXPECT_NEAR(gains.scale[0], 2, 1e-9);
   EXPECT_NEAR(gains.scale[1], 1, 1e-9);
   EXPECT_NEAR(gains.scale[2], 0.5, 1e-9);
@@ -172,15 +175,19 @@ TEST(ScaleFromMergeSidecars, WhatMetadataCannotRelateIsANamedError) {
     }
     return "";
   };
-  EXPECT_NE(message(MergeSidecarJson(false, "Canon", r), MergeSidecarJson(false, "Nikon", r)).find("p.json: is from camera 'Canon'"),
+  EXPECT_NE(message(MergeSidecarJson(false, "Canon", r), MergeSidecarJson(false, "Nikon", r))
+                .find("p.json: is from camera 'Canon'"),
             std::string::npos);
-  EXPECT_NE(message(MergeSidecarJson(true, "c", ResponseCurve::Linear16()), MergeSidecarJson(false, "c", r)).find("is RAW"),
-            std::string::npos);
-  EXPECT_NE(message({{"format", "brdfshot-calib-1"}}, MergeSidecarJson(false, "c", r)).find("p.json: not a brdfshot merge"),
-            std::string::npos);
+  EXPECT_NE(
+      message(MergeSidecarJson(true, "c", ResponseCurve::Linear16()), MergeSidecarJson(false, "c", r)).find("is RAW"),
+      std::string::npos);
+  EXPECT_NE(
+      message({{"format", "brdfshot-calib-1"}}, MergeSidecarJson(false, "c", r)).find("p.json: not a brdfshot merge"),
+      std::string::npos);
   nlohmann::json no_frames = MergeSidecarJson(false, "c", r);
   no_frames.erase("frames");
-  EXPECT_NE(message(MergeSidecarJson(false, "c", r), no_frames).find("q.json: incomplete merge sidecar"), std::string::npos);
+  EXPECT_NE(message(MergeSidecarJson(false, "c", r), no_frames).find("q.json: incomplete merge sidecar"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -15,8 +15,7 @@ namespace brdfshot {
 // `irradiance`: RGB, at normal incidence; `radius_deg`: the disc's angular
 // radius (at least one texel is always lit). Error for a zero direction or
 // a negative irradiance.
-LatLongProbe SunProbe(const Vec3& direction, const cv::Vec3f& irradiance, double radius_deg = 1.0,
-                      int width = 512);
+LatLongProbe SunProbe(const Vec3& direction, const cv::Vec3f& irradiance, double radius_deg = 1.0, int width = 512);
 
 // The sun of SunProbe over a uniform sky: `sky_radiance` on every texel
 // above the horizon (+y up), the sun's disc added on top. A small sun over a

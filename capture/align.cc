@@ -26,8 +26,10 @@ AlignedBracket AlignBracket(const std::vector<cv::Mat>& frames, int max_shift_px
   cv::Ptr<cv::AlignMTB> mtb = cv::createAlignMTB(levels);
   const cv::Mat ref = Gray8(frames[out.reference]);
   for (size_t j = 0; j < frames.size(); ++j) {
-    if (frames[j].size() != frames[0].size()) throw Error("frame " + std::to_string(j) + " differs in size from frame 0");
-    const cv::Point s = static_cast<int>(j) == out.reference ? cv::Point(0, 0) : mtb->calculateShift(ref, Gray8(frames[j]));
+    if (frames[j].size() != frames[0].size())
+      throw Error("frame " + std::to_string(j) + " differs in size from frame 0");
+    const cv::Point s =
+        static_cast<int>(j) == out.reference ? cv::Point(0, 0) : mtb->calculateShift(ref, Gray8(frames[j]));
     out.shifts.push_back(s);
     const cv::Mat M = (cv::Mat_<double>(2, 3) << 1, 0, s.x, 0, 1, s.y);
     cv::Mat shifted;

@@ -10,9 +10,9 @@
 namespace brdfshot {
 
 struct AlignedBracket {
-  std::vector<cv::Mat> frames;      // shifted onto the reference frame
-  std::vector<cv::Point> shifts;    // what was applied to each frame (reference: 0, 0)
-  int reference = 0;                // the middle frame by exposure order given
+  std::vector<cv::Mat> frames;    // shifted onto the reference frame
+  std::vector<cv::Point> shifts;  // what was applied to each frame (reference: 0, 0)
+  int reference = 0;              // the middle frame by exposure order given
 };
 
 // `frames`: 8- or 16-bit RGB, same size. `max_shift_px` bounds the search

@@ -120,11 +120,13 @@ void CheckBracketMeasured(const Bracket& b) {
   const double top = b.frames[0].depth() == CV_8U ? 255 : 65535;
   const cv::Mat short_codes = b.frames[shortest].reshape(1), long_codes = b.frames[longest].reshape(1);
   if (cv::countNonZero(short_codes >= 0.98 * top) > 0.999 * short_codes.total())
-    throw FileError(b.files[shortest], "is saturated everywhere, and it is the shortest exposure of the bracket: "
-                                       "nothing was measured; shoot shorter exposures");
+    throw FileError(b.files[shortest],
+                    "is saturated everywhere, and it is the shortest exposure of the bracket: "
+                    "nothing was measured; shoot shorter exposures");
   if (cv::countNonZero(long_codes <= 0.02 * top) > 0.999 * long_codes.total())
-    throw FileError(b.files[longest], "is black everywhere, and it is the longest exposure of the bracket: "
-                                      "nothing was measured; shoot longer exposures");
+    throw FileError(b.files[longest],
+                    "is black everywhere, and it is the longest exposure of the bracket: "
+                    "nothing was measured; shoot longer exposures");
 }
 
 int ClipReachFor(const Bracket& b, bool is_probe) { return b.jpeg && is_probe ? kJpegClipReach : -1; }
@@ -133,8 +135,9 @@ MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt) {
   // One frame is enough only when it is linear (16-bit: RAW or a linear
   // PNG/TIFF); an 8-bit frame needs a bracket to recover its response.
   if (b.files.size() < 2 && b.frames[0].depth() == CV_8U && !opt.response)
-    throw FileError(b.files[0], "is a single 8-bit frame: merge needs a bracket (two or more exposures) "
-                                "or --response CURVE.json to linearise it");
+    throw FileError(b.files[0],
+                    "is a single 8-bit frame: merge needs a bracket (two or more exposures) "
+                    "or --response CURVE.json to linearise it");
   if (opt.align && b.files.size() > 1) {
     AlignedBracket a = AlignBracket(b.frames);
     for (size_t j = 0; j < b.files.size(); ++j) b.records[j]["shift"] = {a.shifts[j].x, a.shifts[j].y};

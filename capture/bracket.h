@@ -24,17 +24,17 @@ std::vector<std::string> ExpandBracketInputs(const std::vector<std::string>& pat
 
 struct Bracket {
   std::vector<std::string> files;
-  std::vector<cv::Mat> frames;   // RGB, 8- or 16-bit, EXIF orientation applied
-  std::vector<double> exposure;  // relative exposure t · ISO/100 / N² (or the times file's)
+  std::vector<cv::Mat> frames;                       // RGB, 8- or 16-bit, EXIF orientation applied
+  std::vector<double> exposure;                      // relative exposure t · ISO/100 / N² (or the times file's)
   nlohmann::json records = nlohmann::json::array();  // per frame, for the merge sidecar
-  std::string camera;            // the first frame's that says
-  double focal_35mm = 0;         // the first frame's that says (0: none)
+  std::string camera;                                // the first frame's that says
+  double focal_35mm = 0;                             // the first frame's that says (0: none)
   bool raw = false, jpeg = false;
 };
 
 struct BracketReadOptions {
-  std::string times_path;               // overrides EXIF exposures
-  bool white_balance_given = false;     // RAW: use `white_balance` instead of the camera's
+  std::string times_path;            // overrides EXIF exposures
+  bool white_balance_given = false;  // RAW: use `white_balance` instead of the camera's
   std::array<double, 3> white_balance{};
   bool progress = false;
 };
@@ -56,15 +56,15 @@ void CheckBracketMeasured(const Bracket& b);
 int ClipReachFor(const Bracket& b, bool is_probe);
 
 struct BracketMergeOptions {
-  bool align = false;        // translation, median threshold bitmaps
-  bool is_probe = false;     // ClipReachFor
+  bool align = false;                       // translation, median threshold bitmaps
+  bool is_probe = false;                    // ClipReachFor
   const ResponseCurve* response = nullptr;  // reuse instead of recovering
 };
 
 struct MergedBracket {
   MergeResult merge;
   ResponseCurve response;
-  MergeSidecar sidecar;      // filled but for the output paths and the command line
+  MergeSidecar sidecar;         // filled but for the output paths and the command line
   std::vector<cv::Mat> frames;  // as merged (aligned when asked)
 };
 

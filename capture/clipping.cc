@@ -29,8 +29,7 @@ std::vector<cv::Mat> ClippedNearby(const std::vector<cv::Mat>& frames, int clipp
     for (int y = 0; y < f.rows; ++y) {
       const cv::Vec3b* p = f.ptr<cv::Vec3b>(y);
       uint8_t* m = mask.ptr<uint8_t>(y);
-      for (int x = 0; x < f.cols; ++x)
-        m[x] = ClippedHighlight(p[x], clipped_code) ? 255 : 0;
+      for (int x = 0; x < f.cols; ++x) m[x] = ClippedHighlight(p[x], clipped_code) ? 255 : 0;
     }
     if (reach > 0) cv::dilate(mask, mask, kernel);
     out.push_back(mask);

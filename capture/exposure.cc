@@ -65,7 +65,8 @@ void WriteExif(const std::string& path, const ExifInfo& info) {
     if (info.exposure_time > 0) exif["Exif.Photo.ExposureTime"] = ExactRational(info.exposure_time);
     if (info.f_number > 0) exif["Exif.Photo.FNumber"] = ExactRational(info.f_number);
     if (info.iso > 0) exif["Exif.Photo.ISOSpeedRatings"] = static_cast<uint16_t>(std::lround(info.iso));
-    if (info.focal_35mm > 0) exif["Exif.Photo.FocalLengthIn35mmFilm"] = static_cast<uint16_t>(std::lround(info.focal_35mm));
+    if (info.focal_35mm > 0)
+      exif["Exif.Photo.FocalLengthIn35mmFilm"] = static_cast<uint16_t>(std::lround(info.focal_35mm));
     exif["Exif.Image.Orientation"] = static_cast<uint16_t>(info.orientation);
     if (!info.camera.empty()) exif["Exif.Image.Make"] = info.camera;
     image->setExifData(exif);
@@ -95,7 +96,8 @@ double ParseExposureTime(const std::string& text, const std::string& where) {
   } catch (const std::exception&) {
     v = -1;
   }
-  if (!(v > 0) || !std::isfinite(v)) throw Error(where + ": bad exposure time '" + text + "' (expected e.g. 1/250 or 0.5)");
+  if (!(v > 0) || !std::isfinite(v))
+    throw Error(where + ": bad exposure time '" + text + "' (expected e.g. 1/250 or 0.5)");
   return v;
 }
 
@@ -113,7 +115,8 @@ std::vector<double> ReadTimesFile(const std::string& path, size_t expected) {
   }
   if (times.empty()) throw FileError(path, "no exposure times in times file");
   if (expected > 0 && times.size() != expected)
-    throw FileError(path, "has " + std::to_string(times.size()) + " exposure times for " + std::to_string(expected) + " frames");
+    throw FileError(
+        path, "has " + std::to_string(times.size()) + " exposure times for " + std::to_string(expected) + " frames");
   return times;
 }
 

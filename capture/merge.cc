@@ -134,11 +134,11 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
   const int levels = T.levels, zlo = T.zlo, zhi = T.zhi;
   // A frame does not count where it is clipped nearby (clipping.h: JPEG
   // lowers the codes around a clipped highlight). Empty: per channel.
-  const std::vector<cv::Mat> clipped =
-      given_clipped ? *given_clipped : ClippedNearby(frames, zhi, opt.clip_reach);
+  const std::vector<cv::Mat> clipped = given_clipped ? *given_clipped : ClippedNearby(frames, zhi, opt.clip_reach);
   const auto& lin = T.lin;
-  const NoiseModel noise =
-      opt.weights == MergeWeights::kNoise && opt.estimate_noise ? EstimateNoise(frames, times, response, opt) : opt.noise;
+  const NoiseModel noise = opt.weights == MergeWeights::kNoise && opt.estimate_noise
+                               ? EstimateNoise(frames, times, response, opt)
+                               : opt.noise;
   // Weight of a frame's estimate lin(z)/t, up to the power of t.
   std::array<std::vector<float>, 3> wz;
   const double mid = 0.5 * (zlo + zhi);
@@ -199,8 +199,8 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
         // frame is clipped there or nearby, dark otherwise.
         const int zs = code(shortest, y, x, c), zl = code(longest, y, x, c);
         const bool bright = zs >= zhi || (skip >> shortest & 1);
-        dst[x][c] = bright ? lin[c][zs] / static_cast<float>(times[shortest])
-                           : lin[c][zl] / static_cast<float>(times[longest]);
+        dst[x][c] =
+            bright ? lin[c][zs] / static_cast<float>(times[shortest]) : lin[c][zl] / static_cast<float>(times[longest]);
         // A single linear frame's dark codes are still its measurement (there
         // is no other frame to prefer); only its clipped ones are unreliable.
         bad = bad || N > 1 || zs >= zhi;

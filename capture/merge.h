@@ -25,8 +25,8 @@ enum class MergeWeights {
 // Sensor noise in units of the clipping level x = lin / lin(clip): variance of
 // x is shot · x + read (+ the code step's rounding, known from the response).
 struct NoiseModel {
-  double shot = 1e-4;   // 1 / full well in electrons
-  double read = 1.6e-7; // (read noise / full well)²
+  double shot = 1e-4;    // 1 / full well in electrons
+  double read = 1.6e-7;  // (read noise / full well)²
 };
 
 struct MergeOptions {
@@ -75,7 +75,7 @@ namespace brdfshot {
 // is not. Codes never seen keep Debevec's value; the result is made monotone.
 // `clip_reach` as MergeOptions' (kJpegClipReach for JPEG light probes):
 // samples clipped nearby in a frame are not used.
-ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
-                              int iterations = 3, int pixels = 200000, int clip_reach = -1);
+ResponseCurve RecoverResponse(const std::vector<cv::Mat>& frames, const std::vector<double>& times, int iterations = 3,
+                              int pixels = 200000, int clip_reach = -1);
 
 }  // namespace brdfshot

@@ -16,8 +16,8 @@ struct MergeSidecar {
   // One record per frame: "file", and what applies of "exposure",
   // "exif_exposure", "orientation", "shift" and, for RAW, "black", "white", "wb".
   nlohmann::json frames = nlohmann::json::array();
-  std::string camera;       // EXIF make and model ("" when unknown)
-  double focal_35mm = 0;    // EXIF FocalLengthIn35mmFilm, mm (0: unknown)
+  std::string camera;     // EXIF make and model ("" when unknown)
+  double focal_35mm = 0;  // EXIF FocalLengthIn35mmFilm, mm (0: unknown)
   ResponseCurve response;
   bool raw = false, aligned = false, half = false;
   double unreliable_fraction = 0;

@@ -12,7 +12,8 @@ namespace {
 MergeSidecar Example(bool raw) {
   MergeSidecar m;
   for (int k = 0; k < 3; ++k)
-    m.frames.push_back({{"file", "f" + std::to_string(k) + ".nef"}, {"exposure", 0.01 * (1 << k)}, {"wb", {2.0, 1.0, 1.5}}});
+    m.frames.push_back(
+        {{"file", "f" + std::to_string(k) + ".nef"}, {"exposure", 0.01 * (1 << k)}, {"wb", {2.0, 1.0, 1.5}}});
   m.camera = "Nikon D700";
   m.focal_35mm = 54;
   m.response = ResponseCurve::Linear16();

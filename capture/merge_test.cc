@@ -206,7 +206,8 @@ TEST(Response, RecoversAKnownGammaCurveUpToScale) {
     for (int y = 0; y < E.rows; ++y)
       for (int x = 0; x < E.cols; ++x)
         for (int c = 0; c < 3; ++c)
-          f.at<cv::Vec3b>(y, x)[c] = cv::saturate_cast<uint8_t>(255 * std::pow(std::min(1.0, E.at<cv::Vec3d>(y, x)[c] * t * 4), 1 / 2.2));
+          f.at<cv::Vec3b>(y, x)[c] =
+              cv::saturate_cast<uint8_t>(255 * std::pow(std::min(1.0, E.at<cv::Vec3d>(y, x)[c] * t * 4), 1 / 2.2));
     frames.push_back(f);
     times.push_back(t);
   }
@@ -299,16 +300,21 @@ std::string MinimalDng(uint32_t w, uint32_t h, const std::string& data) {
     return v;
   };
   const uint32_t data_at = 8, ifd_at = data_at + static_cast<uint32_t>((data.size() + 1) / 2 * 2);
-  const std::vector<Entry> entries = {
-      {254, 4, 1, 0},          {256, 4, 1, w},           {257, 4, 1, h},
-      {258, 3, 1, 16},         {259, 3, 1, 1},           {262, 3, 1, 32803},  // uncompressed CFA
-      {271, 2, 4, bytes4("Abc")},                                              // Make
-      {273, 4, 1, data_at},    {277, 3, 1, 1},           {278, 4, 1, h},
-      {279, 4, 1, static_cast<uint32_t>(data.size())},
-      {33421, 3, 2, 2u | (2u << 16)},                                          // CFARepeatPatternDim 2×2
-      {33422, 1, 4, bytes4("\0\1\1\2")},                                       // CFAPattern RGGB
-      {50706, 1, 4, bytes4("\1\4\0\0")},                                       // DNGVersion 1.4
-      {50708, 2, 4, bytes4("Abc")}};                                           // UniqueCameraModel
+  const std::vector<Entry> entries = {{254, 4, 1, 0},
+                                      {256, 4, 1, w},
+                                      {257, 4, 1, h},
+                                      {258, 3, 1, 16},
+                                      {259, 3, 1, 1},
+                                      {262, 3, 1, 32803},          // uncompressed CFA
+                                      {271, 2, 4, bytes4("Abc")},  // Make
+                                      {273, 4, 1, data_at},
+                                      {277, 3, 1, 1},
+                                      {278, 4, 1, h},
+                                      {279, 4, 1, static_cast<uint32_t>(data.size())},
+                                      {33421, 3, 2, 2u | (2u << 16)},     // CFARepeatPatternDim 2×2
+                                      {33422, 1, 4, bytes4("\0\1\1\2")},  // CFAPattern RGGB
+                                      {50706, 1, 4, bytes4("\1\4\0\0")},  // DNGVersion 1.4
+                                      {50708, 2, 4, bytes4("Abc")}};      // UniqueCameraModel
   std::string out("II*\0", 4);
   auto put = [&](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
   put(&ifd_at, 4);

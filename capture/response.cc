@@ -31,7 +31,8 @@ ResponseCurve ResponseCurve::FromJson(const nlohmann::json& j, const std::string
     if (r.kind == "debevec") {
       for (int c = 0; c < 3; ++c) r.g[c] = j.at("ln_exposure").at(c).get<std::vector<double>>();
       for (int c = 0; c < 3; ++c)
-        if (static_cast<int>(r.g[c].size()) != r.levels) throw FileError(source, "response curve length differs from levels");
+        if (static_cast<int>(r.g[c].size()) != r.levels)
+          throw FileError(source, "response curve length differs from levels");
     } else if (r.kind != "linear") {
       throw FileError(source, "unknown response kind '" + r.kind + "'");
     }

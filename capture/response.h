@@ -2,9 +2,9 @@
 //
 // 8-bit frames: recovered from the bracket itself by Debevec & Malik's weighted
 // least squares (g(z) = ln E + ln t, smoothness λ, g(128) = 0), solved in double
-// with ln E eliminated (a 256×256 LDLT, however many samples). OpenCV's CalibrateDebevec does the same but takes 8-bit only and gives
-// clipped codes weight; ours gives codes 0 and 255 zero weight and forces the
-// result monotone. 16-bit frames (RAW or linear TIFF/PNG): linear, no curve.
+// with ln E eliminated (a 256×256 LDLT, however many samples). OpenCV's CalibrateDebevec does the same but takes 8-bit
+// only and gives clipped codes weight; ours gives codes 0 and 255 zero weight and forces the result monotone. 16-bit
+// frames (RAW or linear TIFF/PNG): linear, no curve.
 #pragma once
 
 #include <array>
@@ -23,14 +23,18 @@ struct ResponseCurve {
   double Linear(int c, int z) const;
   nlohmann::json ToJson() const;
   static ResponseCurve FromJson(const nlohmann::json& j, const std::string& source);
-  static ResponseCurve Linear16() { ResponseCurve r; r.levels = 65536; return r; }
+  static ResponseCurve Linear16() {
+    ResponseCurve r;
+    r.levels = 65536;
+    return r;
+  }
 };
 
 struct DebevecOptions {
-  int samples = 5000;      // pixel locations (ln E eliminated: cost does not grow with them)
-  double lambda = 30;      // smoothness, per 200 samples (scaled by √(samples/200))
+  int samples = 5000;  // pixel locations (ln E eliminated: cost does not grow with them)
+  double lambda = 30;  // smoothness, per 200 samples (scaled by √(samples/200))
   uint32_t seed = 7;
-  int clip_reach = -1;     // ≥ 0 (JPEG light probes): samples clipped nearby in a frame are left out (clipping.h)
+  int clip_reach = -1;  // ≥ 0 (JPEG light probes): samples clipped nearby in a frame are left out (clipping.h)
 };
 
 // `frames`: CV_8UC3, same size; `times`: relative exposures. Error when fewer

@@ -15,11 +15,11 @@
 namespace brdfshot {
 
 struct CameraModel {
-  double gamma = 2.2;          // 8-bit code = 255 (x^(1/γ)) with a soft shoulder, x = signal / full well
-  double shoulder = 0.25;      // x ↦ x (1 + s) / (x + s) before the power: highlights roll off
-  double full_well = 20000;    // electrons at clipping
-  double read_noise = 4;       // electrons RMS
-  int raw_bits = 0;            // 0: 8-bit LDR through the response; 12 or 14: linear RAW-like
+  double gamma = 2.2;        // 8-bit code = 255 (x^(1/γ)) with a soft shoulder, x = signal / full well
+  double shoulder = 0.25;    // x ↦ x (1 + s) / (x + s) before the power: highlights roll off
+  double full_well = 20000;  // electrons at clipping
+  double read_noise = 4;     // electrons RMS
+  int raw_bits = 0;          // 0: 8-bit LDR through the response; 12 or 14: linear RAW-like
   uint64_t seed = 1;
   // Normalised code (0..1) of a normalised sensor signal x ∈ [0, 1] (LDR only).
   double Response(double x) const;
@@ -36,10 +36,9 @@ std::vector<double> BracketTimes(const cv::Mat& radiance, int frames, double sto
 
 // A bracket that measures all of `radiance` (CV_32FC3, in units where signal =
 // radiance · t reaches full well at 1): the shortest frame keeps the brightest
-// pixel below `max_signal` of full well (mid-curve, where an 8-bit response is well measured), the longest lifts the `dark_quantile`
-// pixel luminance to `dark_signal`; times step by `stops` from the shortest,
-// which is rounded down to a power of two (so times are exact in EXIF, 1/n or n).
-// At most `max_frames` frames: the dark end is given up first.
+// pixel below `max_signal` of full well (mid-curve, where an 8-bit response is well measured), the longest lifts the
+// `dark_quantile` pixel luminance to `dark_signal`; times step by `stops` from the shortest, which is rounded down to a
+// power of two (so times are exact in EXIF, 1/n or n). At most `max_frames` frames: the dark end is given up first.
 std::vector<double> CoveringBracketTimes(const cv::Mat& radiance, double stops, int max_frames = 16,
                                          double max_signal = 0.35, double dark_quantile = 0.02,
                                          double dark_signal = 0.25);

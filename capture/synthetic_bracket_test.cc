@@ -134,7 +134,7 @@ TEST(CoveringBracketTimes, ShortestFrameKeepsThePeakLongestLiftsTheDark) {
   double lo = 0, hi = 0;
   cv::minMaxLoc(e.reshape(1), &lo, &hi);
   EXPECT_LE(hi * t.front(), 0.35);
-  EXPECT_GT(hi * t.front(), 0.175);  // rounded down by at most one stop
+  EXPECT_GT(hi * t.front(), 0.175);                                   // rounded down by at most one stop
   EXPECT_EQ(std::exp2(std::round(std::log2(t.front()))), t.front());  // a power of two: exact in EXIF
   for (size_t k = 1; k < t.size(); ++k) EXPECT_DOUBLE_EQ(t[k] / t[k - 1], 4.0);
   std::vector<double> lum;

@@ -14,9 +14,7 @@ namespace {
 constexpr char kMagic[8] = {'B', 'S', 'H', 'O', 'T', 'B', 'I', '1'};
 }
 
-std::vector<std::string> BasisImages::BasisNames() const {
-  return header.at("bases").get<std::vector<std::string>>();
-}
+std::vector<std::string> BasisImages::BasisNames() const { return header.at("bases").get<std::vector<std::string>>(); }
 
 void BasisImages::Write(const std::string& path) const {
   const size_t P = geometry.size(), n = Y[0].cols();

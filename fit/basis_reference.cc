@@ -50,8 +50,7 @@ MatrixXfR MaterialColumns(const BasisDatabase& db, const std::vector<int>& mater
   return B;
 }
 
-std::map<std::string, double> WorstErrorPerLabel(const std::array<MatrixXfR, 3>& Y,
-                                                 const std::array<MatrixXfR, 3>& ref,
+std::map<std::string, double> WorstErrorPerLabel(const std::array<MatrixXfR, 3>& Y, const std::array<MatrixXfR, 3>& ref,
                                                  const std::vector<std::string>& labels) {
   std::map<std::string, double> worst;
   for (size_t k = 0; k < labels.size(); ++k)
@@ -90,12 +89,17 @@ BasisImages RenderReferenceImages(const PixelGeometry& g, const LatLongProbe& pr
     }
     if (progress) progress->Step();
   }
-  out.header = {{"format", "brdfshot-basis-images-1"}, {"reference", true},
-                {"probe_name", probe.name()}, {"probe_hash", probe.Hash()},
-                {"probe_size", {probe.width(), probe.height()}},
-                {"geometry_hash", g.Hash()}, {"quality", "reference theta=" + std::to_string(theta) +
-                                                             ",phi=" + std::to_string(phi) + ",trilinear,unfiltered"},
-                {"database", db.label}, {"database_kind", db.kind}, {"bases", names}};
+  out.header = {
+      {"format", "brdfshot-basis-images-1"},
+      {"reference", true},
+      {"probe_name", probe.name()},
+      {"probe_hash", probe.Hash()},
+      {"probe_size", {probe.width(), probe.height()}},
+      {"geometry_hash", g.Hash()},
+      {"quality", "reference theta=" + std::to_string(theta) + ",phi=" + std::to_string(phi) + ",trilinear,unfiltered"},
+      {"database", db.label},
+      {"database_kind", db.kind},
+      {"bases", names}};
   return out;
 }
 

@@ -25,7 +25,7 @@ struct MaterialClassList {
   std::vector<std::string> materials;
 };
 const std::vector<MaterialClassList>& ReferenceClasses();
-std::vector<std::string> ReferenceMaterialNames();  // all of the above, in order
+std::vector<std::string> ReferenceMaterialNames();          // all of the above, in order
 std::string ReferenceClassOf(const std::string& material);  // "" if none
 
 // The table of one material of the database (unmeasured entries = 0, as the
@@ -34,9 +34,8 @@ MerlBrdf MaterialTable(const BasisDatabase& db, int material);
 
 // Reference images (pixels × 3 per material, channel c under light channel c)
 // for the given materials, with `theta`×`phi` half-vector samples per pixel.
-BasisImages RenderReferenceImages(const PixelGeometry& geometry, const LatLongProbe& probe,
-                                  const BasisDatabase& db, const std::vector<int>& materials,
-                                  int theta, int phi, Progress* progress);
+BasisImages RenderReferenceImages(const PixelGeometry& geometry, const LatLongProbe& probe, const BasisDatabase& db,
+                                  const std::vector<int>& materials, int theta, int phi, Progress* progress);
 
 // Indices of the reference materials (ReferenceMaterialNames) the database
 // holds, in that order; empty for a database without MERL names.
@@ -48,8 +47,7 @@ MatrixXfR MaterialColumns(const BasisDatabase& db, const std::vector<int>& mater
 // Images of MaterialColumns (column 3k + c of Y_c: material k, channel c) against
 // a reference in the same layout: the worst RelativeRmse over each material's
 // channels, per label (`labels[k]` for material k; materials may share one).
-std::map<std::string, double> WorstErrorPerLabel(const std::array<MatrixXfR, 3>& Y,
-                                                 const std::array<MatrixXfR, 3>& ref,
+std::map<std::string, double> WorstErrorPerLabel(const std::array<MatrixXfR, 3>& Y, const std::array<MatrixXfR, 3>& ref,
                                                  const std::vector<std::string>& labels);
 
 // ‖y − ref‖ / ‖ref‖ (0 when both vanish).

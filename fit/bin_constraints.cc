@@ -53,7 +53,7 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, cons
   }
   const Eigen::VectorXd v0 = A * w0;
   const double threshold = -tolerance * std::max(v0.maxCoeff(), 1e-300);
-  std::vector<int> rows;             // the bins with a multiplier so far
+  std::vector<int> rows;  // the bins with a multiplier so far
   std::vector<char> in(A.rows(), 0);
   Eigen::VectorXd values = v0;
   for (s.rounds = 0; s.rounds < max_rounds; ++s.rounds) {
@@ -86,8 +86,7 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, cons
   double t = 0;
   for (Eigen::Index i = 0; i < values.size(); ++i)
     if (values[i] < 0 && lift[i] > 0) t = std::max(t, -values[i] / lift[i]);
-  if (t > 0 && t * std::sqrt(static_cast<double>(k)) <= 1e-6 * std::max(w0.norm(), 1e-300))
-    s.w.array() += 2 * t;
+  if (t > 0 && t * std::sqrt(static_cast<double>(k)) <= 1e-6 * std::max(w0.norm(), 1e-300)) s.w.array() += 2 * t;
   return s;
 }
 

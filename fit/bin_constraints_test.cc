@@ -29,7 +29,8 @@ double BruteForceOptimum(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, con
     kkt.topLeftCorner(k, k) = H;
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + s);
     rhs.head(k) = b;
-    for (int r = 0; r < s; ++r) kkt.block(k + r, 0, 1, k) = A.row(S[r]), kkt.block(0, k + r, k, 1) = A.row(S[r]).transpose();
+    for (int r = 0; r < s; ++r)
+      kkt.block(k + r, 0, 1, k) = A.row(S[r]), kkt.block(0, k + r, k, 1) = A.row(S[r]).transpose();
     const Eigen::VectorXd sol = kkt.completeOrthogonalDecomposition().solve(rhs);
     const Eigen::VectorXd w = sol.head(k);
     if ((kkt * sol - rhs).norm() > 1e-8 * (1 + rhs.norm())) continue;  // inconsistent system

@@ -49,7 +49,8 @@ std::vector<int> KMeans(const Eigen::MatrixXd& X, int k, uint32_t seed, int rest
       Eigen::Index pick = 0;
       if (total > 0) {
         double r = std::uniform_real_distribution<double>(0, total)(rng);
-        for (pick = 0; pick < n - 1 && (r -= d2[pick]) > 0; ++pick) {}
+        for (pick = 0; pick < n - 1 && (r -= d2[pick]) > 0; ++pick) {
+        }
       }
       C.col(j) = X.col(pick);
       d2 = d2.cwiseMin((X.colwise() - C.col(j)).colwise().squaredNorm().transpose());
@@ -76,8 +77,7 @@ std::vector<int> KMeans(const Eigen::MatrixXd& X, int k, uint32_t seed, int rest
   return best;
 }
 
-Eigen::VectorXd LogGaussian(const Eigen::MatrixXd& X, const Eigen::VectorXd& mean,
-                            const Eigen::MatrixXd& cov) {
+Eigen::VectorXd LogGaussian(const Eigen::MatrixXd& X, const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov) {
   const Eigen::LLT<Eigen::MatrixXd> llt(cov);
   BRDFSHOT_CHECK(llt.info() == Eigen::Success, "covariance not positive definite");
   const Eigen::MatrixXd z = llt.matrixL().solve(X.colwise() - mean);
@@ -129,8 +129,7 @@ ClassModel FitGmm(const Eigen::MatrixXd& X, const GmmOptions& opt) {
   };
   auto e_step = [&]() {
     Eigen::MatrixXd logp(n, K);
-    for (int j = 0; j < K; ++j)
-      logp.col(j) = LogGaussian(X, m.means[j], m.covs[j]).array() + std::log(m.mix[j]);
+    for (int j = 0; j < K; ++j) logp.col(j) = LogGaussian(X, m.means[j], m.covs[j]).array() + std::log(m.mix[j]);
     double ll = 0;
     for (Eigen::Index i = 0; i < n; ++i) {
       const double mx = logp.row(i).maxCoeff();
@@ -200,8 +199,10 @@ nlohmann::json ClassModel::ToJson(const std::vector<std::string>& names) const {
     j["covs"].push_back(std::vector<double>(covs[k].data(), covs[k].data() + covs[k].size()));
   }
   for (Eigen::Index i = 0; i < coords.cols(); ++i) {
-    j["bases"].push_back({{"name", names.at(i)}, {"class", label[i]},
-                          {"coords", Vec(coords.col(i))}, {"resp", Vec(resp.row(i).transpose())}});
+    j["bases"].push_back({{"name", names.at(i)},
+                          {"class", label[i]},
+                          {"coords", Vec(coords.col(i))},
+                          {"resp", Vec(resp.row(i).transpose())}});
   }
   return j;
 }

@@ -20,8 +20,7 @@ namespace brdfshot {
 
 // Coordinates of every basis on the first `dims` left singular vectors of B,
 // computed from G = BᵀB alone: G = V S² Vᵀ, coordinates = S_N V_Nᵀ (dims × n).
-Eigen::MatrixXd ProjectFromGram(const Eigen::MatrixXd& gram, int dims,
-                                Eigen::VectorXd* singular_values = nullptr);
+Eigen::MatrixXd ProjectFromGram(const Eigen::MatrixXd& gram, int dims, Eigen::VectorXd* singular_values = nullptr);
 
 // Lloyd's k-means with k-means++ seeding, best of `restarts` (fixed seed).
 std::vector<int> KMeans(const Eigen::MatrixXd& points, int k, uint32_t seed, int restarts = 10);
@@ -30,10 +29,10 @@ struct GmmOptions {
   int dims = 4;
   int classes = 4;
   int max_iterations = 1000;
-  double tolerance = 1e-9;    // relative change of the log-likelihood
-  double reg = 1e-6;          // covariance ridge, relative to the data's mean variance
+  double tolerance = 1e-9;  // relative change of the log-likelihood
+  double reg = 1e-6;        // covariance ridge, relative to the data's mean variance
   uint32_t seed = 1;
-  bool paper_mstep = false;   // reproduce eqs. 11–12 as printed (divide by π_j)
+  bool paper_mstep = false;  // reproduce eqs. 11–12 as printed (divide by π_j)
 };
 
 struct ClassModel {
@@ -42,8 +41,8 @@ struct ClassModel {
   Eigen::VectorXd mix;              // K
   std::vector<Eigen::VectorXd> means;
   std::vector<Eigen::MatrixXd> covs;
-  Eigen::MatrixXd resp;             // n × K, rows sum to one
-  std::vector<int> label;           // argmax_j γ_j(b_i)
+  Eigen::MatrixXd resp;    // n × K, rows sum to one
+  std::vector<int> label;  // argmax_j γ_j(b_i)
   double log_likelihood = 0;
   int iterations = 0;
   bool converged = false;
@@ -62,8 +61,7 @@ ClassModel FitGmm(const Eigen::MatrixXd& coords, const GmmOptions& opt);
 ClassModel BuildClassModel(const Eigen::MatrixXd& gram, const GmmOptions& opt);
 
 // log N(x | μ, Σ) for each column of X (used by EM and by tests).
-Eigen::VectorXd LogGaussian(const Eigen::MatrixXd& X, const Eigen::VectorXd& mean,
-                            const Eigen::MatrixXd& cov);
+Eigen::VectorXd LogGaussian(const Eigen::MatrixXd& X, const Eigen::VectorXd& mean, const Eigen::MatrixXd& cov);
 
 // "a / b / c / d": the number of bases in each class, in class order (reports).
 std::string ClassSizes(const ClassModel& m);

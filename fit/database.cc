@@ -47,8 +47,7 @@ std::vector<std::string> ReadLines(const std::string& path) {
 
 std::vector<std::string> MaterialsOfBases(const std::vector<std::string>& basis_names) {
   std::vector<std::string> out;
-  for (size_t i = 0; i < basis_names.size(); i += 3)
-    out.push_back(basis_names[i].substr(0, basis_names[i].rfind('/')));
+  for (size_t i = 0; i < basis_names.size(); i += 3) out.push_back(basis_names[i].substr(0, basis_names[i].rfind('/')));
   return out;
 }
 
@@ -112,8 +111,7 @@ std::string ResolveDatabaseKind(const DatabaseOptions& opt, std::string* folder)
     return "merl";
   }
   if (opt.kind == "merl")
-    throw Error("no MERL .binary files in '" + merl +
-                "' (set --merl-dir or BRDFSHOT_DATA; see README 'Data')");
+    throw Error("no MERL .binary files in '" + merl + "' (set --merl-dir or BRDFSHOT_DATA; see README 'Data')");
   if ((opt.kind == "auto" || opt.kind == "nbrdf") && Exists(nbrdf + "/materials.txt")) {
     *folder = nbrdf;
     return "nbrdf";
@@ -127,8 +125,10 @@ std::string ResolveDatabaseKind(const DatabaseOptions& opt, std::string* folder)
   }
   if (opt.kind != "auto" && opt.kind != "standin")
     throw Error("unknown database kind '" + opt.kind + "' (auto, merl, nbrdf, standin)");
-  throw Error("no BRDF database found: set BRDFSHOT_DATA to a folder with merl/, merl-nbrdf/ or "
-              "standin/ (see README 'Data'); looked in '" + DataRoot(opt.data_root) + "'");
+  throw Error(
+      "no BRDF database found: set BRDFSHOT_DATA to a folder with merl/, merl-nbrdf/ or "
+      "standin/ (see README 'Data'); looked in '" +
+      DataRoot(opt.data_root) + "'");
 }
 
 namespace {
@@ -303,10 +303,11 @@ BasisDatabase LoadDatabase(const DatabaseOptions& opt) {
   const std::vector<int> keep = SelectMaterials(src.names, opt);
   const CachedDatabaseId id = CacheId(src, opt.grid);
   BasisDatabase cached, built;
-  EnsureCache(src, opt, id, [&](const std::string& p) { cached = ReadDatabaseCache(p, id, keep); }, &built);
+  EnsureCache(
+      src, opt, id, [&](const std::string& p) { cached = ReadDatabaseCache(p, id, keep); }, &built);
   if (!cached.materials.empty()) return cached;
   if (!built.materials.empty()) return SelectColumns(std::move(built), keep);  // just built, all materials
-  return ComputeTables(src, opt.grid, keep, opt.progress);                      // caching off
+  return ComputeTables(src, opt.grid, keep, opt.progress);                     // caching off
 }
 
 DatabaseGrams LoadDatabaseGrams(const DatabaseOptions& opt) {
@@ -324,8 +325,8 @@ DatabaseGrams LoadDatabaseGrams(const DatabaseOptions& opt) {
   const CachedDatabaseId id = CacheId(src, opt.grid);
   DatabaseGrams grams;
   BasisDatabase built;
-  const std::string path =
-      EnsureCache(src, opt, id, [&](const std::string& p) { grams = ReadDatabaseCacheGrams(p, id, keep); }, &built);
+  const std::string path = EnsureCache(
+      src, opt, id, [&](const std::string& p) { grams = ReadDatabaseCacheGrams(p, id, keep); }, &built);
   if (!grams.materials.empty()) return grams;
   if (!path.empty()) return ReadDatabaseCacheGrams(path, id, keep);  // just built
   return from_tables(ComputeTables(src, opt.grid, keep, opt.progress));
@@ -360,8 +361,7 @@ Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* w) {
 std::vector<float> CosineWeights(const MerlGrid& grid) {
   std::vector<float> w(grid.size());
 #pragma omp parallel for schedule(static)
-  for (long i = 0; i < static_cast<long>(grid.size()); ++i)
-    w[i] = static_cast<float>(grid.CosineWeight(i));
+  for (long i = 0; i < static_cast<long>(grid.size()); ++i) w[i] = static_cast<float>(grid.CosineWeight(i));
   return w;
 }
 

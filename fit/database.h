@@ -13,9 +13,9 @@
 namespace brdfshot {
 
 struct DatabaseOptions {
-  std::string kind = "auto";   // auto | merl | nbrdf | standin
-  std::string data_root;       // "" = $BRDFSHOT_DATA, then ../shared
-  std::string merl_dir;        // overrides <root>/merl
+  std::string kind = "auto";         // auto | merl | nbrdf | standin
+  std::string data_root;             // "" = $BRDFSHOT_DATA, then ../shared
+  std::string merl_dir;              // overrides <root>/merl
   MerlGrid grid = MerlGrid::Full();  // for nbrdf / standin (MERL files carry their own)
   std::vector<std::string> only;     // material names to keep (empty = all)
   std::vector<std::string> exclude;  // material names to leave out (leave-one-out on a capture)

@@ -78,7 +78,8 @@ Layout ReadLayout(const PositionalFile& f, const std::string& path, const Cached
   Layout l;
   try {
     l.header = nlohmann::json::parse(text);
-    if (l.header.at("format") != kFormat) throw FileError(path, "another cache format (" + l.header.at("format").dump() + ")");
+    if (l.header.at("format") != kFormat)
+      throw FileError(path, "another cache format (" + l.header.at("format").dump() + ")");
     const auto g = l.header.at("grid");
     if (l.header.at("kind") != id.kind || l.header.at("fingerprint") != id.fingerprint ||
         !(MerlGrid{g.at(0), g.at(1), g.at(2)} == id.grid))
@@ -164,10 +165,14 @@ void WriteDatabaseCache(const std::string& path, const CachedDatabaseId& id, con
   const uint64_t rows = static_cast<uint64_t>(db.B.rows()), cols = static_cast<uint64_t>(db.B.cols());
   BRDFSHOT_CHECK(rows == db.grid.size() && gram.rows() == static_cast<Eigen::Index>(cols) &&
                  gram_cos.rows() == static_cast<Eigen::Index>(cols));
-  nlohmann::json h = {{"format", kFormat},     {"kind", id.kind},
-                      {"label", db.label},     {"grid", {db.grid.n_th, db.grid.n_td, db.grid.n_pd}},
-                      {"fingerprint", id.fingerprint}, {"rows", rows},
-                      {"cols", cols},          {"block_rows", kBlockRows},
+  nlohmann::json h = {{"format", kFormat},
+                      {"kind", id.kind},
+                      {"label", db.label},
+                      {"grid", {db.grid.n_th, db.grid.n_td, db.grid.n_pd}},
+                      {"fingerprint", id.fingerprint},
+                      {"rows", rows},
+                      {"cols", cols},
+                      {"block_rows", kBlockRows},
                       {"materials", db.materials}};
   if (!db.families.empty()) h["families"] = db.families;
   const std::string text = h.dump();

@@ -25,9 +25,9 @@
 namespace brdfshot {
 
 struct CachedDatabaseId {
-  std::string kind;         // nbrdf | standin
+  std::string kind;  // nbrdf | standin
   MerlGrid grid;
-  std::string fingerprint;  // hex digest of the source files' bytes and the evaluator version
+  std::string fingerprint;       // hex digest of the source files' bytes and the evaluator version
   std::string FileName() const;  // "<kind>-<grid>-<fingerprint>.bsdb"
 };
 
@@ -49,7 +49,6 @@ BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId&
 
 // Only the header and the Gram matrices, restricted to `keep` (cheap: B is not
 // read, but the file's length is checked).
-DatabaseGrams ReadDatabaseCacheGrams(const std::string& path, const CachedDatabaseId& id,
-                                     const std::vector<int>& keep);
+DatabaseGrams ReadDatabaseCacheGrams(const std::string& path, const CachedDatabaseId& id, const std::vector<int>& keep);
 
 }  // namespace brdfshot

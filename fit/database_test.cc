@@ -58,7 +58,8 @@ TEST(Database, WithoutADataFolderAutoFindsTheRepositorysNeuralFits) {
   opt.data_root = "/nonexistent-brdfshot-data";
   std::string folder;
   EXPECT_EQ(ResolveDatabaseKind(opt, &folder), "nbrdf");
-  EXPECT_EQ(std::filesystem::path(folder), std::filesystem::weakly_canonical(std::filesystem::path(BRDFSHOT_SOURCE_DIR) / "data" / "merl-nbrdf"));
+  EXPECT_EQ(std::filesystem::path(folder),
+            std::filesystem::weakly_canonical(std::filesystem::path(BRDFSHOT_SOURCE_DIR) / "data" / "merl-nbrdf"));
   EXPECT_EQ(ReadLines(folder + "/materials.txt").size(), 100u);
 }
 

@@ -116,13 +116,14 @@ std::string EvaluationMarkdown(const Evaluation& ev, const std::string& settings
   const DefaultVersusBaselines d = CompareDefault(ev);
   const double M = std::max(1, d.materials);
   char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "\nPer material (mean relit error over probes): auto beats plain least squares on **%d / %d** (%.0f %%), "
-                "the paper as written on **%d / %d** (%.0f %%); within 1.05× the better of least squares and "
-                "λ = %g on **%d / %d** (%.0f %%). Spearman rank correlation of auto's predicted and actual relit "
-                "error over all fits: **%.3f**.\n\nλ chosen by auto:",
-                d.beats_lsq, d.materials, 100 * d.beats_lsq / M, d.beats_paper, d.materials, 100 * d.beats_paper / M,
-                fixed_lambda, d.within_5_percent, d.materials, 100 * d.within_5_percent / M, d.spearman);
+  std::snprintf(
+      buf, sizeof buf,
+      "\nPer material (mean relit error over probes): auto beats plain least squares on **%d / %d** (%.0f %%), "
+      "the paper as written on **%d / %d** (%.0f %%); within 1.05× the better of least squares and "
+      "λ = %g on **%d / %d** (%.0f %%). Spearman rank correlation of auto's predicted and actual relit "
+      "error over all fits: **%.3f**.\n\nλ chosen by auto:",
+      d.beats_lsq, d.materials, 100 * d.beats_lsq / M, d.beats_paper, d.materials, 100 * d.beats_paper / M,
+      fixed_lambda, d.within_5_percent, d.materials, 100 * d.within_5_percent / M, d.spearman);
   md << buf;
   std::map<double, int> lambda_count;
   for (const LooRow& row : ev.result.rows)
@@ -148,14 +149,14 @@ std::string EvaluationMarkdown(const Evaluation& ev, const std::string& settings
     }
     md << "\n";
   }
-  std::snprintf(buf, sizeof buf,
-                "\nTime: database %.1f s, Gram matrices %.1f s, basis images %.1f s for %zu scenes, fits %.1f s "
-                "(%zu materials × %zu probes, %zu methods; %.1f ms per fit of all methods, thread time). "
-                "Total %.1f s.\n",
-                ev.seconds_database, ev.seconds_grams, ev.seconds_basis, ev.probes.size() + ev.directional_probes.size(),
-                ev.seconds_fits, ev.materials.size(), ev.probes.size(), methods.size(),
-                1000 * ev.result.seconds_solve / std::max<size_t>(1, ev.materials.size() * ev.probes.size()),
-                ev.seconds_total);
+  std::snprintf(
+      buf, sizeof buf,
+      "\nTime: database %.1f s, Gram matrices %.1f s, basis images %.1f s for %zu scenes, fits %.1f s "
+      "(%zu materials × %zu probes, %zu methods; %.1f ms per fit of all methods, thread time). "
+      "Total %.1f s.\n",
+      ev.seconds_database, ev.seconds_grams, ev.seconds_basis, ev.probes.size() + ev.directional_probes.size(),
+      ev.seconds_fits, ev.materials.size(), ev.probes.size(), methods.size(),
+      1000 * ev.result.seconds_solve / std::max<size_t>(1, ev.materials.size() * ev.probes.size()), ev.seconds_total);
   md << buf;
   return md.str();
 }

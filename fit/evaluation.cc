@@ -33,8 +33,8 @@ std::vector<LatLongProbe> DirectionalScoringProbes(int width) {
 }
 
 namespace {
-void GroupMaterials(const BasisDatabase& base, const BasisDatabase& targets, const LooInputs& in,
-                    const GmmOptions& gmm, Evaluation* ev) {
+void GroupMaterials(const BasisDatabase& base, const BasisDatabase& targets, const LooInputs& in, const GmmOptions& gmm,
+                    Evaluation* ev) {
   if (!targets.materials.empty()) {
     ev->group_kind = "family";
     for (size_t m = 0; m < targets.materials.size(); ++m) {

@@ -38,16 +38,16 @@ struct EvaluationOptions {
 struct Evaluation {
   std::string database_label, targets_label;  // targets_label empty for leave-one-out
   MerlGrid grid;
-  std::vector<std::string> materials;         // the scored materials
+  std::vector<std::string> materials;  // the scored materials
   std::vector<std::string> probes, directional_probes;
   size_t pixels = 0;
   // Groups for per-group tables: a target's family, or a database material's
   // class in the full-database model (majority of its channels).
-  std::string group_kind;                     // "family" or "class"
-  std::string class_sizes;                    // of the full-database model ("" for targets)
+  std::string group_kind;   // "family" or "class"
+  std::string class_sizes;  // of the full-database model ("" for targets)
   std::vector<std::string> groups;
-  std::map<std::string, int> group_of;        // material → index into groups
-  double lowest_basis_value = 0;              // over the sampled bins: < 0 means the bases themselves go negative
+  std::map<std::string, int> group_of;  // material → index into groups
+  double lowest_basis_value = 0;        // over the sampled bins: < 0 means the bases themselves go negative
   LooResult result;
   double seconds_database = 0, seconds_grams = 0, seconds_basis = 0, seconds_fits = 0, seconds_total = 0;
 };

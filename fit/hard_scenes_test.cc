@@ -35,7 +35,7 @@ struct World {
 };
 
 const World* GetWorld() {
-  static const World* world = [] () -> const World* {
+  static const World* world = []() -> const World* {
     const std::string tsv = AssetPath("standin/materials.tsv");
     const std::string exr = AssetPath("envmaps/studio_256.exr");
     if (tsv.empty() || exr.empty()) return nullptr;
@@ -89,8 +89,8 @@ Images KeepRows(const Images& Y, const std::vector<int>& rows) {
 struct FitResult {
   Eigen::MatrixXd weights;  // n × 3, in the units of the observation
   int chosen = -1;
-  double condition = 0;     // green channel, chosen class
-  double insample = 0;      // ‖Y w − y‖ / ‖y‖
+  double condition = 0;  // green channel, chosen class
+  double insample = 0;   // ‖Y w − y‖ / ‖y‖
 };
 
 // Leave-one-out fit of observation y (pixels × 3) of material m on the rows of
@@ -172,11 +172,11 @@ const Baseline& GetBaseline(const World& w) {
   return b;
 }
 
-#define REQUIRE_WORLD()                                           \
-  const World* world = GetWorld();                                \
-  if (!world) GTEST_SKIP() << "samples/assets not found";         \
-  const World& w = *world;                                        \
-  const Baseline& base = GetBaseline(w);                          \
+#define REQUIRE_WORLD()                                   \
+  const World* world = GetWorld();                        \
+  if (!world) GTEST_SKIP() << "samples/assets not found"; \
+  const World& w = *world;                                \
+  const Baseline& base = GetBaseline(w);                  \
   const std::vector<int> mats = OnePerFamily(w.db)
 
 }  // namespace
@@ -217,8 +217,7 @@ TEST(HardScenes, LambdaToZeroWithExactlyCollinearBases) {
     const Eigen::VectorXd yb = twins[c].cast<double>() * b.weights().col(c);
     EXPECT_LT((ya - yb).norm(), 1e-6 * ya.norm()) << "channel " << c;
     // Minimum norm: a twin pair carries equal halves.
-    for (int i : one)
-      EXPECT_NEAR(b.weights()(i, c), b.weights()(i + w.db.num_bases(), c), 1e-4 * max_w);
+    for (int i : one) EXPECT_NEAR(b.weights()(i, c), b.weights()(i + w.db.num_bases(), c), 1e-4 * max_w);
   }
   // λ → 0 through positive values: finite at every λ, the fitted image
   // continuous (the weights need not be: along directions the data do not
@@ -232,14 +231,19 @@ TEST(HardScenes, LambdaToZeroWithExactlyCollinearBases) {
     double dy = 0;
     for (int c = 0; c < 3; ++c)
       dy += (base.Y[c].cast<double>() * (t.weights().col(c) - a.weights().col(c))).squaredNorm();
-    std::printf("[lambda] %-8g |w| %.3g relit %.4f condition %.3g in-sample change %.2g\n", lambda,
-                t.weights().norm(), RelitError(base.relight, t.weights(), m), t.classes[0].condition[1],
-                std::sqrt(dy) / y.norm());
-    if (lambda <= 1e-6) { EXPECT_LT(std::sqrt(dy), 1e-3 * y.norm()) << "lambda " << lambda; }
+    std::printf("[lambda] %-8g |w| %.3g relit %.4f condition %.3g in-sample change %.2g\n", lambda, t.weights().norm(),
+                RelitError(base.relight, t.weights(), m), t.classes[0].condition[1], std::sqrt(dy) / y.norm());
+    if (lambda <= 1e-6) {
+      EXPECT_LT(std::sqrt(dy), 1e-3 * y.norm()) << "lambda " << lambda;
+    }
     // The reported conditioning grows as 1/√λ once λ dominates the smallest
     // singular value (the demo's grey diffuse bases are exactly collinear).
-    if (lambda == 1e-12) { EXPECT_GT(t.classes[0].condition[1], 1e8); }
-    if (lambda == 0.5) { EXPECT_LT(t.classes[0].condition[1], 1e4); }
+    if (lambda == 1e-12) {
+      EXPECT_GT(t.classes[0].condition[1], 1e8);
+    }
+    if (lambda == 0.5) {
+      EXPECT_LT(t.classes[0].condition[1], 1e4);
+    }
   }
   EXPECT_TRUE(std::isinf(a.classes[0].condition[1])) << "λ = 0 on collinear bases is singular";
   std::printf("[lambda] 0        |w| %.3g relit %.4f condition %.3g\n", a.weights().norm(),
@@ -265,8 +269,8 @@ TEST(HardScenes, NearlyBlackMaterialIsFittedAsLambdaToZero) {
     for (int c = 0; c < 3; ++c)
       dy += (base.Y[c].cast<double>() * (dark.weights.col(c) / s - lsq.weights.col(c))).squaredNorm();
     std::printf("[black] %-24s relit %.4f (easy %.4f, lambda 0 %.4f) condition %.3g in-sample %.4f\n",
-                w.db.materials[m].c_str(), err, base.error[k], RelitError(base.relight, lsq.weights, m),
-                dark.condition, dark.insample);
+                w.db.materials[m].c_str(), err, base.error[k], RelitError(base.relight, lsq.weights, m), dark.condition,
+                dark.insample);
     EXPECT_EQ(dark.chosen, lsq.chosen);
     EXPECT_LT(std::sqrt(dy), 0.01 * y.norm()) << w.db.materials[m];
   }
@@ -320,8 +324,8 @@ TEST(HardScenes, ThirtyPixelSphere) {
     ASSERT_TRUE(AllFinite(r.weights));
     // Scored on the 64-pixel sphere: the BRDF, not the few pixels.
     const double err = sc.relit;
-    std::printf("[30px] %-24s pixels %zu relit %.4f (easy %.4f) condition %.3g\n", w.db.materials[m].c_str(),
-                g.size(), err, base.error[k], r.condition);
+    std::printf("[30px] %-24s pixels %zu relit %.4f (easy %.4f) condition %.3g\n", w.db.materials[m].c_str(), g.size(),
+                err, base.error[k], r.condition);
     EXPECT_LT(err, 1.25 * base.error[k]) << "measured within 5 % of the 64-pixel sphere";
   }
 }
@@ -351,8 +355,8 @@ TEST(HardScenes, HalfSaturatedSphere) {
     const double e_masked = RelitError(base.relight, masked.weights, m);
     const double e_naive = RelitError(base.relight, naive.weights, m);
     std::printf("[saturated] %-24s kept %zu/%ld masked %.4f (in-sample %.4f) clipped-in %.4f (easy %.4f)\n",
-                w.db.materials[m].c_str(), kept.size(), static_cast<long>(y.rows()), e_masked, masked.insample,
-                e_naive, base.error[k]);
+                w.db.materials[m].c_str(), kept.size(), static_cast<long>(y.rows()), e_masked, masked.insample, e_naive,
+                base.error[k]);
     sum_masked += e_masked;
     sum_naive += e_naive;
   }
@@ -379,8 +383,8 @@ TEST(HardScenes, SingleTexelSun) {
     const FitResult& r = sc.fit;
     ASSERT_TRUE(AllFinite(r.weights));
     const double err = sc.relit;
-    std::printf("[sun] %-24s relit %.4f (easy %.4f) condition %.3g in-sample %.4f\n", w.db.materials[m].c_str(),
-                err, base.error[k], r.condition, r.insample);
+    std::printf("[sun] %-24s relit %.4f (easy %.4f) condition %.3g in-sample %.4f\n", w.db.materials[m].c_str(), err,
+                base.error[k], r.condition, r.insample);
     EXPECT_LT(r.insample, 0.25);
     sum_sun += err;
     sum_easy += base.error[k];

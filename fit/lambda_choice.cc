@@ -83,8 +83,9 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
 namespace {
 // Held-out squared error of class `cls` (fold spectrum) for every λ of `grid`,
 // added into `score`.
-void AddFoldScores(const ClassSpectrum& cls, const std::array<Eigen::MatrixXd, 3>& held_class_gram, const Observation& all,
-                   const Observation& held, const std::vector<double>& grid, std::vector<double>* score) {
+void AddFoldScores(const ClassSpectrum& cls, const std::array<Eigen::MatrixXd, 3>& held_class_gram,
+                   const Observation& all, const Observation& held, const std::vector<double>& grid,
+                   std::vector<double>* score) {
   const std::vector<int>& J = cls.members;
   const Eigen::Index k = static_cast<Eigen::Index>(J.size());
   const double cj = static_cast<double>(k);
@@ -188,7 +189,8 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
       const int K = static_cast<int>(held.size());
       std::vector<std::vector<double>> per_fold(K, std::vector<double>(opt.grid.size(), 0.0));
 #pragma omp parallel for schedule(dynamic, 1)
-      for (int k = 0; k < K; ++k) AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[k]);
+      for (int k = 0; k < K; ++k)
+        AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[k]);
       cv_score[j].assign(opt.grid.size(), 0.0);
       for (int k = 0; k < K; ++k)  // summed in fold order: the same score on any thread count
         for (size_t l = 0; l < opt.grid.size(); ++l) cv_score[j][l] += per_fold[k][l];
@@ -211,7 +213,8 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   double best = inf;
   for (size_t j = 0; j < classes.size(); ++j)
     for (size_t l = 0; l < opt.grid.size(); ++l)
-      if (out.score[j][l] < best) best = out.score[j][l], out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
+      if (out.score[j][l] < best)
+        best = out.score[j][l], out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
   BRDFSHOT_CHECK(out.chosen_class >= 0, "no non-empty class to choose");
   size_t chosen_l = 0;
   while (opt.grid[chosen_l] != out.lambda) ++chosen_l;

@@ -55,8 +55,8 @@ Observation SumObservations(const std::vector<Observation>& parts);
 
 // Everything about the folds that does not depend on the photo.
 struct CvSystem {
-  std::vector<std::array<Eigen::MatrixXd, 3>> held_gram;  // [fold][channel], n × n
-  std::vector<std::vector<ClassSpectrum>> train;          // [fold][class]: spectra of G − G_fold
+  std::vector<std::array<Eigen::MatrixXd, 3>> held_gram;                // [fold][channel], n × n
+  std::vector<std::vector<ClassSpectrum>> train;                        // [fold][class]: spectra of G − G_fold
   std::vector<std::vector<std::array<Eigen::MatrixXd, 3>>> held_class;  // [fold][class][channel]: G_fold,JJ
 };
 CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
@@ -67,7 +67,7 @@ struct LambdaChoiceOptions {
   // Also offer every basis as one more candidate "class" (prior 1/n): the
   // criterion then decides whether the class restriction helps this photo.
   bool all_bases_candidate = false;
-  double fixed = 0.5;       // the weight for rule "fixed"
+  double fixed = 0.5;  // the weight for rule "fixed"
   std::vector<double> grid = {0, 1e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0};
   // Effective pixel count for GCV, as a fraction of the pixels (1: every pixel independent).
   double gcv_pixel_fraction = 1.0;

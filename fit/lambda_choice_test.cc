@@ -31,7 +31,8 @@ Scene MakeScene(int n, uint32_t seed) {
       const double a = u(rng), bx = u(rng) - 0.6, by = u(rng) - 0.6, bz = u(rng), q = u(rng) - 0.6;
       for (size_t p = 0; p < s.g.size(); ++p) {
         const Vec3& m = s.g.normal[p];
-        s.Y[c](static_cast<Eigen::Index>(p), j) = static_cast<float>(a + bx * m.x + by * m.y + bz * m.z + q * m.x * m.y);
+        s.Y[c](static_cast<Eigen::Index>(p), j) =
+            static_cast<float>(a + bx * m.x + by * m.y + bz * m.z + q * m.x * m.y);
       }
     }
   }
@@ -138,27 +139,27 @@ TEST(LambdaChoice, ExactDataPicksTheSmallestLambdaAndPriorPlusNoiseTheLargest) {
   opt.grid = {1e-4, 1e-2, 1.0, 100.0};
   opt.max_condition = 1e300;
   for (const char* rule : {"cv", "gcv"}) {
-  SCOPED_TRACE(rule);
-  opt.rule = rule;
-  auto choose = [&](const Eigen::MatrixXd& y) {
-    return ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y), FoldObservations(s.Y, y, fold, 6),
-                        s.g.size(), opt);
-  };
-  // Exactly a combination far from the prior: any pull towards it costs.
-  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(8, 3);
-  w.row(2).setConstant(1.5);
-  w.row(5).setConstant(-0.4);
-  EXPECT_EQ(choose(Render(s, w)).lambda, 1e-4);
-  // The prior itself plus noise: the prior is the best answer.
-  std::mt19937 rng(9);
-  std::normal_distribution<double> noise(0, 0.3);
-  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(8, 3, 1.0 / 8));
-  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
-  const LambdaChoice noisy = choose(y);
-  EXPECT_EQ(noisy.lambda, 100.0);
-  // Held out, the prior's prediction misses by the noise alone: σ √(3 pixels) / ‖y‖.
-  const double want = 0.3 * std::sqrt(static_cast<double>(y.size())) / y.norm();
-  EXPECT_NEAR(noisy.predicted_error, want, 0.1 * want);
+    SCOPED_TRACE(rule);
+    opt.rule = rule;
+    auto choose = [&](const Eigen::MatrixXd& y) {
+      return ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
+                          FoldObservations(s.Y, y, fold, 6), s.g.size(), opt);
+    };
+    // Exactly a combination far from the prior: any pull towards it costs.
+    Eigen::MatrixXd w = Eigen::MatrixXd::Zero(8, 3);
+    w.row(2).setConstant(1.5);
+    w.row(5).setConstant(-0.4);
+    EXPECT_EQ(choose(Render(s, w)).lambda, 1e-4);
+    // The prior itself plus noise: the prior is the best answer.
+    std::mt19937 rng(9);
+    std::normal_distribution<double> noise(0, 0.3);
+    Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(8, 3, 1.0 / 8));
+    for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+    const LambdaChoice noisy = choose(y);
+    EXPECT_EQ(noisy.lambda, 100.0);
+    // Held out, the prior's prediction misses by the noise alone: σ √(3 pixels) / ‖y‖.
+    const double want = 0.3 * std::sqrt(static_cast<double>(y.size())) / y.norm();
+    EXPECT_NEAR(noisy.predicted_error, want, 0.1 * want);
   }
 }
 
@@ -194,7 +195,8 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.relative_residual = 0.02;
   r.classes = {{3, 1.5, 20, "normal"}, {2, 0.5, 1e9, "qr"}, {0, std::numeric_limits<double>::infinity(), 0, ""}};
   r.lambda_grid = {0, 0.03};
-  r.lambda_scores = {{2, 1}, {0.5, 0.25}, {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}};
+  r.lambda_scores = {
+      {2, 1}, {0.5, 0.25}, {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}};
   r.bases = {"a/R", "a/G", "a/B"};
   r.weights = Eigen::MatrixXd::Random(3, 3);
   r.seconds_factor = 0.2;

@@ -179,7 +179,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       if (opt.constraint == WeightConstraint::Kind::kBins) {
         auto it = constraint_bins.find(choice.chosen_class);
         if (it == constraint_bins.end())
-          it = constraint_bins.emplace(choice.chosen_class, ConstraintBins(in.constraint_sample, picked.members, 1)).first;
+          it = constraint_bins.emplace(choice.chosen_class, ConstraintBins(in.constraint_sample, picked.members, 1))
+                   .first;
         constraint.bins = &it->second;
       }
       const Method methods[] = {
@@ -198,10 +199,13 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
         if (meth.cls >= 0 && std::string(meth.name).rfind("auto", 0) == 0)
           row.lambda = choice.lambda, row.predicted = choice.predicted_error;
         if (std::string(meth.name) == "ours" || std::string(meth.name) == "paper") row.lambda = opt.lambda;
-        ScoreRelit(in.scenes, a, [&](int b) {
-          const auto& f = in.scenes[b].f;
-          return RelativeError({&f[0].gram, &f[1].gram, &f[2].gram}, meth.w, m);
-        }, &row);
+        ScoreRelit(
+            in.scenes, a,
+            [&](int b) {
+              const auto& f = in.scenes[b].f;
+              return RelativeError({&f[0].gram, &f[1].gram, &f[2].gram}, meth.w, m);
+            },
+            &row);
         row.brdf = RelativeError(gcos, meth.w, m);
         row.insample = RelativeError({&fa[0].gram, &fa[1].gram, &fa[2].gram}, meth.w, m);
         per_material[m].push_back(row);

@@ -27,22 +27,22 @@
 
 namespace brdfshot {
 
-struct SceneFactors {            // one probe's basis images, factored
+struct SceneFactors {  // one probe's basis images, factored
   std::string probe;
   // A directional-light scene (a sun over a dim sky): it scores every fit
   // (LooRow::relit_directional) and is never fitted from; it needs no QR
   // and no folds.
   bool scoring_only = false;
-  std::array<ChannelFactor, 3> f;        // with the QR (least squares and the singular fallback)
+  std::array<ChannelFactor, 3> f;                         // with the QR (least squares and the singular fallback)
   std::vector<std::array<Eigen::MatrixXd, 3>> fold_gram;  // per wedge of the sphere (FoldGrams), for "auto"
   size_t pixels = 0;
 };
 
 struct LooInputs {
-  std::vector<std::string> materials;     // n/3 names
-  Eigen::MatrixXd gram;                   // BᵀB (clustering)
-  Eigen::MatrixXd gram_cos;               // Bᵀ diag(cos²) B (BRDF metric)
-  std::vector<SceneFactors> scenes;       // one per probe
+  std::vector<std::string> materials;  // n/3 names
+  Eigen::MatrixXd gram;                // BᵀB (clustering)
+  Eigen::MatrixXd gram_cos;            // Bᵀ diag(cos²) B (BRDF metric)
+  std::vector<SceneFactors> scenes;    // one per probe
   // A sample of the database's bins (rows of its tables, SampleBins): every
   // fitted BRDF is evaluated there to count negative values. Empty: not counted.
   MatrixXfR bin_sample;
@@ -63,8 +63,8 @@ std::vector<double> NegativeBinShares(const MatrixXfR& bins, const Eigen::Matrix
 
 struct LooOptions {
   GmmOptions gmm;
-  double lambda = 0.5;             // "ours": the corrected M-step at a fixed λ
-  LambdaChoiceOptions choice;      // "auto": λ and class chosen per fit (the default of `fit`)
+  double lambda = 0.5;         // "ours": the corrected M-step at a fixed λ
+  LambdaChoiceOptions choice;  // "auto": λ and class chosen per fit (the default of `fit`)
   // What "auto" keeps non-negative (kBins: LooInputs::constraint_sample);
   // "auto-signed" is the same choice unconstrained.
   WeightConstraint::Kind constraint = WeightConstraint::Kind::kBins;
@@ -76,12 +76,12 @@ double Median(std::vector<double> v);
 
 struct LooRow {
   std::string material, probe, method;
-  int chosen_class = -1;                  // -1 for baselines without classes
-  double lambda = -1;                     // the λ used (-1: none)
-  double predicted = -1;                  // the fit's own predicted error ("auto"; -1: none)
+  int chosen_class = -1;  // -1 for baselines without classes
+  double lambda = -1;     // the λ used (-1: none)
+  double predicted = -1;  // the fit's own predicted error ("auto"; -1: none)
   double relit_mean = 0, relit_median = 0, brdf = 0, insample = 0;
-  double relit_directional = -1;          // mean over the scoring-only scenes (-1: none)
-  double negative_bins = -1;              // NegativeBinShare of the fitted BRDF (-1: not counted)
+  double relit_directional = -1;  // mean over the scoring-only scenes (-1: none)
+  double negative_bins = -1;      // NegativeBinShare of the fitted BRDF (-1: not counted)
 };
 
 // Fills row's relit_mean / relit_median (over the fitted scenes b ≠ a) and

@@ -24,18 +24,16 @@ MerlBrdf MerlBrdf::Read(const std::string& path) {
     throw FileError(path, "too short for a MERL header (12 bytes)");
   for (int d : dims)
     if (d <= 0 || d > 4096)
-      throw FileError(path, "bad MERL header (" + std::to_string(dims[0]) + ", " +
-                                std::to_string(dims[1]) + ", " + std::to_string(dims[2]) +
-                                "): expected (90, 90, 180) or a reduced positive grid");
+      throw FileError(path, "bad MERL header (" + std::to_string(dims[0]) + ", " + std::to_string(dims[1]) + ", " +
+                                std::to_string(dims[2]) + "): expected (90, 90, 180) or a reduced positive grid");
   // The size check comes before the allocation: a corrupt header must not ask
   // for 4096³ doubles (found by fuzz_merl).
   const MerlGrid grid{dims[0], dims[1], dims[2]};
   const uint64_t expected = sizeof dims + 3ull * grid.size() * sizeof(double);
   if (file_size != expected)
     throw FileError(path, "size " + std::to_string(file_size) + " bytes does not match header (" +
-                              std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
-                              std::to_string(dims[2]) + " needs " + std::to_string(expected) +
-                              "): truncated or not a MERL file");
+                              std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]) +
+                              " needs " + std::to_string(expected) + "): truncated or not a MERL file");
   MerlBrdf brdf(grid);
   in.read(reinterpret_cast<char*>(brdf.raw_.data()), brdf.raw_.size() * sizeof(double));
   if (!in) throw FileError(path, "read failed");

@@ -44,8 +44,7 @@ TEST(HalfDiff, RoundTripThroughDirections) {
     const HalfDiff back = ToHalfDiff(wi, wo);
     EXPECT_NEAR(back.theta_h, hd.theta_h, 1e-7);
     EXPECT_NEAR(back.theta_d, hd.theta_d, 1e-7);
-    if (hd.theta_d > 1e-3 && hd.theta_h > 1e-3)
-      EXPECT_NEAR(std::remainder(back.phi_d - hd.phi_d, 2 * kPi), 0, 1e-6);
+    if (hd.theta_d > 1e-3 && hd.theta_h > 1e-3) EXPECT_NEAR(std::remainder(back.phi_d - hd.phi_d, 2 * kPi), 0, 1e-6);
   }
 }
 
@@ -176,7 +175,8 @@ TEST(MerlRealData, KnownFactsOfTheMerlDatabase) {
   std::vector<std::string> files;
   std::error_code ec;
   if (!dir.empty() && fs::is_directory(dir, ec))
-    for (auto& e : fs::directory_iterator(dir)) if (e.path().extension() == ".binary") files.push_back(e.path().string());
+    for (auto& e : fs::directory_iterator(dir))
+      if (e.path().extension() == ".binary") files.push_back(e.path().string());
   if (files.empty()) GTEST_SKIP() << "no real MERL files in <data>/merl";
   EXPECT_EQ(3 * files.size(), 300u);
   const MerlBrdf m = MerlBrdf::Read(files.front());

@@ -26,9 +26,7 @@ struct MerlGrid {
 
   static constexpr MerlGrid Full() { return {90, 90, 180}; }
   size_t size() const { return static_cast<size_t>(n_th) * n_td * n_pd; }
-  size_t Index(int i, int j, int k) const {
-    return (static_cast<size_t>(i) * n_td + j) * n_pd + k;
-  }
+  size_t Index(int i, int j, int k) const { return (static_cast<size_t>(i) * n_td + j) * n_pd + k; }
   void Unindex(size_t idx, int* i, int* j, int* k) const {
     *k = static_cast<int>(idx % n_pd);
     *j = static_cast<int>((idx / n_pd) % n_td);
@@ -47,9 +45,7 @@ struct MerlGrid {
   bool Measurable(size_t idx) const;
   // cos θ_i · cos θ_o at the entry's lattice point (0 where not measurable).
   double CosineWeight(size_t idx) const;
-  bool operator==(const MerlGrid& o) const {
-    return n_th == o.n_th && n_td == o.n_td && n_pd == o.n_pd;
-  }
+  bool operator==(const MerlGrid& o) const { return n_th == o.n_th && n_td == o.n_td && n_pd == o.n_pd; }
 };
 
 // MERL's channel scales: stored value × scale = BRDF (1/sr).

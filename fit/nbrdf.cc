@@ -25,9 +25,7 @@ Eigen::MatrixXf LoadMatrix(const std::string& path, size_t rows, size_t cols) {
 }  // namespace
 
 NbrdfNetwork NbrdfNetwork::Load(const std::string& dir, const std::string& name) {
-  auto p = [&](const char* suffix) {
-    return (std::filesystem::path(dir) / (name + suffix)).string();
-  };
+  auto p = [&](const char* suffix) { return (std::filesystem::path(dir) / (name + suffix)).string(); };
   NbrdfNetwork n;
   n.name_ = name;
   n.w1_ = LoadMatrix(p("_fc1.npy"), 6, 21);
@@ -56,8 +54,8 @@ MatrixXfR NbrdfNetwork::Eval(const MatrixXfR& x) const {
 Rgb NbrdfNetwork::EvalHalfDiff(const HalfDiff& hd) const {
   MatrixXfR x(1, 6);
   const double st = std::sin(hd.theta_d);
-  x << std::sin(hd.theta_h), 0, std::cos(hd.theta_h), st * std::cos(hd.phi_d),
-      st * std::sin(hd.phi_d), std::cos(hd.theta_d);
+  x << std::sin(hd.theta_h), 0, std::cos(hd.theta_h), st * std::cos(hd.phi_d), st * std::sin(hd.phi_d),
+      std::cos(hd.theta_d);
   const MatrixXfR o = Eval(x);
   return {o(0, 0), o(0, 1), o(0, 2)};
 }
@@ -70,8 +68,8 @@ MatrixXfR NbrdfInputs(const MerlGrid& grid) {
       for (int k = 0; k < grid.n_pd; ++k) {
         const HalfDiff hd = grid.LatticePoint(i, j, k);
         const double st = std::sin(hd.theta_d);
-        x.row(grid.Index(i, j, k)) << std::sin(hd.theta_h), 0, std::cos(hd.theta_h),
-            st * std::cos(hd.phi_d), st * std::sin(hd.phi_d), std::cos(hd.theta_d);
+        x.row(grid.Index(i, j, k)) << std::sin(hd.theta_h), 0, std::cos(hd.theta_h), st * std::cos(hd.phi_d),
+            st * std::sin(hd.phi_d), std::cos(hd.theta_d);
       }
   return x;
 }

@@ -37,11 +37,11 @@ std::vector<float> RawFloats(const std::string& path) {
 
 std::array<double, 3> ScalarNbrdf(const std::string& dir, const std::string& name, const HalfDiff& hd) {
   auto f = [&](const char* s) { return RawFloats(dir + "/" + name + s); };
-  const auto w1 = f("_fc1.npy"), b1 = f("_b1.npy"), w2 = f("_fc2.npy"), b2 = f("_b2.npy"),
-             w3 = f("_fc3.npy"), b3 = f("_b3.npy");
+  const auto w1 = f("_fc1.npy"), b1 = f("_b1.npy"), w2 = f("_fc2.npy"), b2 = f("_b2.npy"), w3 = f("_fc3.npy"),
+             b3 = f("_b3.npy");
   const double st = std::sin(hd.theta_d);
-  const double x[6] = {std::sin(hd.theta_h), 0, std::cos(hd.theta_h), st * std::cos(hd.phi_d),
-                       st * std::sin(hd.phi_d), std::cos(hd.theta_d)};
+  const double x[6] = {std::sin(hd.theta_h), 0, std::cos(hd.theta_h), st * std::cos(hd.phi_d), st * std::sin(hd.phi_d),
+                       std::cos(hd.theta_d)};
   double h1[21], h2[21];
   for (int o = 0; o < 21; ++o) {
     double s = b1[o];

@@ -10,8 +10,7 @@ namespace brdfshot {
 
 namespace {
 // x_P = H_PP⁻¹ b_P with the ridge of the header's comment.
-Eigen::VectorXd SolveFree(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, const std::vector<int>& P,
-                          double ridge) {
+Eigen::VectorXd SolveFree(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, const std::vector<int>& P, double ridge) {
   Eigen::MatrixXd Hpp = H(P, P);
   Hpp.diagonal().array() += ridge;
   return Eigen::LDLT<Eigen::MatrixXd>(Hpp).solve(b(P));

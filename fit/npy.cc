@@ -16,16 +16,15 @@ NpyArray ParseNpyFloat32(const std::string& bytes, const std::string& name) {
   if (bytes[6] != 1 || bytes[7] != 0)
     throw FileError(name, "unsupported .npy version " + std::to_string(int(bytes[6])) + "." +
                               std::to_string(int(bytes[7])) + " (expected 1.0)");
-  const size_t header_len = static_cast<unsigned char>(bytes[8]) |
-                            (static_cast<size_t>(static_cast<unsigned char>(bytes[9])) << 8);
+  const size_t header_len =
+      static_cast<unsigned char>(bytes[8]) | (static_cast<size_t>(static_cast<unsigned char>(bytes[9])) << 8);
   if (10 + header_len > bytes.size()) throw FileError(name, "truncated .npy header");
   const std::string header = bytes.substr(10, header_len);
   std::smatch m;
   if (!std::regex_search(header, m, std::regex("'descr'\\s*:\\s*'([^']*)'")))
     throw FileError(name, ".npy header has no dtype");
   if (m[1] != "<f4") throw FileError(name, "dtype '" + m[1].str() + "', expected '<f4' (float32)");
-  if (!std::regex_search(header, m, std::regex("'fortran_order'\\s*:\\s*(True|False)")) ||
-      m[1] != "False")
+  if (!std::regex_search(header, m, std::regex("'fortran_order'\\s*:\\s*(True|False)")) || m[1] != "False")
     throw FileError(name, "not in C order (fortran_order must be False)");
   if (!std::regex_search(header, m, std::regex("'shape'\\s*:\\s*\\(([^)]*)\\)")))
     throw FileError(name, ".npy header has no shape");

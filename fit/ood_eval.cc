@@ -138,7 +138,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       std::vector<Observation> held(K);
       for (int k = 0; k < K; ++k)
         for (int c = 0; c < 3; ++c) held[k].z[c] = ta.fold_cross[k][c].col(t), held[k].norm2[c] = ta.fold_self[k][c][t];
-      const LambdaChoice choice = ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels, opt.choice);
+      const LambdaChoice choice =
+          ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels, opt.choice);
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes[a], obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, paper_classes[a], obs, so);
       Eigen::MatrixXd oracle(n, 3);
@@ -157,22 +158,24 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       WeightConstraint constraint;
       constraint.kind = opt.constraint;
       if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &class_bins[choice.chosen_class];
-      const Method methods[] = {{"auto", SolveClass(fa, picked, obs, choice.lambda, constraint).weights, choice.chosen_class},
-                                {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
-                                {"ours", ours.weights(), ours.chosen},
-                                {"paper", paper.weights(), paper.chosen},
-                                {"lsq", SolveLeastSquares(fa, obs, all), -1},
-                                {"relit-oracle", oracle, -1}};
+      const Method methods[] = {
+          {"auto", SolveClass(fa, picked, obs, choice.lambda, constraint).weights, choice.chosen_class},
+          {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
+          {"ours", ours.weights(), ours.chosen},
+          {"paper", paper.weights(), paper.chosen},
+          {"lsq", SolveLeastSquares(fa, obs, all), -1},
+          {"relit-oracle", oracle, -1}};
       for (const Method& m : methods) {
         LooRow row;
         row.material = targets[t];
         row.probe = bases.scenes[a].probe;
         row.method = m.name;
         row.chosen_class = m.cls;
-        if (std::string(m.name).rfind("auto", 0) == 0) row.lambda = choice.lambda, row.predicted = choice.predicted_error;
+        if (std::string(m.name).rfind("auto", 0) == 0)
+          row.lambda = choice.lambda, row.predicted = choice.predicted_error;
         if (std::string(m.name) == "ours" || std::string(m.name) == "paper") row.lambda = opt.lambda;
-        ScoreRelit(bases.scenes, a, [&](int b) { return TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t); },
-                   &row);
+        ScoreRelit(
+            bases.scenes, a, [&](int b) { return TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t); }, &row);
         row.brdf = std::nan("");
         row.negative_bins = NegativeBinShare(bases.bin_sample, m.w);
         row.insample = TargetError(fa.data(), ta, m.w, t);

@@ -22,9 +22,9 @@ namespace brdfshot {
 
 // The targets' images against one scene's basis images.
 struct TargetScene {
-  std::array<Eigen::MatrixXd, 3> cross;     // n × T: Y_cᵀ (target t's channel-c image)
-  std::array<Eigen::MatrixXd, 3> cross_qr;  // n × T: first n entries of Q_cᵀ (target image)
-  std::array<Eigen::VectorXd, 3> self;      // T: ‖target image‖²
+  std::array<Eigen::MatrixXd, 3> cross;                    // n × T: Y_cᵀ (target t's channel-c image)
+  std::array<Eigen::MatrixXd, 3> cross_qr;                 // n × T: first n entries of Q_cᵀ (target image)
+  std::array<Eigen::VectorXd, 3> self;                     // T: ‖target image‖²
   std::vector<std::array<Eigen::MatrixXd, 3>> fold_cross;  // per wedge
   std::vector<std::array<Eigen::VectorXd, 3>> fold_self;
 };

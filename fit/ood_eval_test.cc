@@ -19,8 +19,8 @@ std::array<MatrixXfR, 3> Images(const PixelGeometry& g, int n, std::mt19937& rng
     for (int j = 0; j < n; ++j) {
       const double a = u(rng), bx = u(rng) - .5, by = u(rng) - .5, q = u(rng);
       for (size_t p = 0; p < g.size(); ++p)
-        Y[c](static_cast<Eigen::Index>(p), j) = static_cast<float>(
-            a + bx * g.normal[p].x + by * g.normal[p].y + q * g.normal[p].z * g.normal[p].x + 0.05 * u(rng));
+        Y[c](static_cast<Eigen::Index>(p), j) = static_cast<float>(a + bx * g.normal[p].x + by * g.normal[p].y +
+                                                                   q * g.normal[p].z * g.normal[p].x + 0.05 * u(rng));
     }
   }
   return Y;

@@ -15,8 +15,8 @@ void CheckModelMatchesBases(const nlohmann::json& model_json, const std::string&
                             const std::vector<std::string>& names) {
   const auto& bases = model_json.at("bases");
   if (bases.size() != names.size())
-    throw FileError(model_source, "has " + std::to_string(bases.size()) + " bases, the basis images " +
-                                      std::to_string(names.size()));
+    throw FileError(model_source,
+                    "has " + std::to_string(bases.size()) + " bases, the basis images " + std::to_string(names.size()));
   for (size_t i = 0; i < names.size(); ++i)
     if (bases[i].at("name") != names[i])
       throw FileError(model_source, "basis " + std::to_string(i) + " is '" + bases[i]["name"].get<std::string>() +
@@ -25,9 +25,12 @@ void CheckModelMatchesBases(const nlohmann::json& model_json, const std::string&
 
 std::string ConstraintName(WeightConstraint::Kind kind) {
   switch (kind) {
-    case WeightConstraint::Kind::kWeights: return "non-negative weights";
-    case WeightConstraint::Kind::kBins: return "non-negative bins";
-    default: return "none";
+    case WeightConstraint::Kind::kWeights:
+      return "non-negative weights";
+    case WeightConstraint::Kind::kBins:
+      return "non-negative bins";
+    default:
+      return "none";
   }
 }
 
@@ -88,7 +91,8 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
     bins.conservativeResize(old + static_cast<Eigen::Index>(negative.size()), Eigen::NoChange);
     for (size_t r = 0; r < negative.size(); ++r)
       for (size_t k = 0; k < chosen.members.size(); ++k)
-        bins(old + static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) = (*tables)(negative[r], chosen.members[k]);
+        bins(old + static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) =
+            (*tables)(negative[r], chosen.members[k]);
     out.fit.classes[out.fit.chosen] = SolveClass(f, chosen, obs, out.choice.lambda, constraint);
   }
   out.seconds_table_check = check.Seconds();
@@ -153,8 +157,11 @@ nlohmann::json FitRecord::ToJson() const {
   j["relative_residual"] = relative_residual;
   j["classes"] = nlohmann::json::array();
   for (size_t k = 0; k < classes.size(); ++k)
-    j["classes"].push_back({{"class", k}, {"members", classes[k].members}, {"residual", Finite(classes[k].residual)},
-                            {"condition", Finite(classes[k].condition)}, {"path", classes[k].path}});
+    j["classes"].push_back({{"class", k},
+                            {"members", classes[k].members},
+                            {"residual", Finite(classes[k].residual)},
+                            {"condition", Finite(classes[k].condition)},
+                            {"path", classes[k].path}});
   nlohmann::json curve = nlohmann::json::array();
   for (const auto& row : lambda_scores) {
     nlohmann::json r = nlohmann::json::array();
@@ -164,12 +171,13 @@ nlohmann::json FitRecord::ToJson() const {
   j["lambda_choice"] = {{"rule", lambda_rule},
                         {"grid", lambda_grid},
                         {"score_per_class", curve},
-                        {"why", lambda_rule == "cv"   ? "smallest held-out error over wedges of the sphere, any class"
+                        {"why", lambda_rule == "cv"    ? "smallest held-out error over wedges of the sphere, any class"
                                 : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class"
                                                        : "given by --lambda; class by residual"}};
   j["bases"] = bases;
   j["weights"] = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < weights.rows(); ++i) j["weights"].push_back({weights(i, 0), weights(i, 1), weights(i, 2)});
+  for (Eigen::Index i = 0; i < weights.rows(); ++i)
+    j["weights"].push_back({weights(i, 0), weights(i, 1), weights(i, 2)});
   j["negative_bins_constrained_after_check"] = negative_bins_added;
   j["seconds"] = {{"factor", seconds_factor}, {"solve", seconds_solve}, {"table_check", seconds_table_check}};
   return j;

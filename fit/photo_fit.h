@@ -29,7 +29,7 @@ struct PhotoFitOptions {
 };
 
 struct PhotoFit {
-  ClasswiseFit fit;            // every class solved at its λ; fit.chosen is the pick
+  ClasswiseFit fit;  // every class solved at its λ; fit.chosen is the pick
   LambdaChoice choice;
   Eigen::MatrixXd reconstruction;  // pixels × 3: Y w, the fit in the photo's own lighting
   double relative_residual = 0;    // ‖Y w − y‖ / ‖y‖

@@ -28,8 +28,8 @@ void Frame(cv::Mat& img, const std::string& title) {
 }
 }  // namespace
 
-cv::Mat ScatterPlot(const Eigen::MatrixXd& xy, const std::vector<int>& cls,
-                    const std::vector<std::string>& labels, const std::string& title) {
+cv::Mat ScatterPlot(const Eigen::MatrixXd& xy, const std::vector<int>& cls, const std::vector<std::string>& labels,
+                    const std::string& title) {
   cv::Mat img(800, 1000, CV_8UC3, cv::Scalar::all(255));
   Frame(img, title);
   const double x0 = xy.row(0).minCoeff(), x1 = xy.row(0).maxCoeff();
@@ -76,9 +76,11 @@ cv::Mat LinePlotLog(const std::vector<std::vector<double>>& series, const std::v
     for (size_t i = 1; i < n; ++i) {
       const int xa = static_cast<int>(70 + (i - 1) * 900.0 / std::max<size_t>(1, n - 1));
       const int xb = static_cast<int>(70 + i * 900.0 / std::max<size_t>(1, n - 1));
-      cv::line(img, {xa, py(series[s][order[i - 1]])}, {xb, py(series[s][order[i]])}, ClassColor(static_cast<int>(s)), 1, cv::LINE_AA);
+      cv::line(img, {xa, py(series[s][order[i - 1]])}, {xb, py(series[s][order[i]])}, ClassColor(static_cast<int>(s)),
+               1, cv::LINE_AA);
     }
-    cv::putText(img, names[s], {90 + 160 * static_cast<int>(s), 50}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ClassColor(static_cast<int>(s)), 1, cv::LINE_AA);
+    cv::putText(img, names[s], {90 + 160 * static_cast<int>(s), 50}, cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                ClassColor(static_cast<int>(s)), 1, cv::LINE_AA);
   }
   return img;
 }
@@ -102,7 +104,8 @@ cv::Mat BarPlot(const std::vector<std::vector<double>>& values, const std::vecto
       std::snprintf(buf, sizeof buf, "%.3f", values[g][s]);
       cv::putText(img, buf, {x, 435 - h}, cv::FONT_HERSHEY_PLAIN, 0.8, {0, 0, 0});
     }
-    cv::putText(img, groups[g], {static_cast<int>(70 + g * gw), 470}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1, cv::LINE_AA);
+    cv::putText(img, groups[g], {static_cast<int>(70 + g * gw), 470}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 1,
+                cv::LINE_AA);
   }
   for (int s = 0; s < Sn; ++s)
     cv::putText(img, series[s], {90 + 140 * s, 50}, cv::FONT_HERSHEY_SIMPLEX, 0.5, ClassColor(s), 1, cv::LINE_AA);
@@ -153,8 +156,8 @@ cv::Mat LogLogPlot(const std::vector<XYSeries>& series, const std::string& title
                                        (right - left));
   };
   auto py = [&](double v) {
-    return static_cast<int>(bottom - (std::log10(std::max(v, y0)) - std::log10(y0)) / (std::log10(y1) - std::log10(y0)) *
-                                         (bottom - top));
+    return static_cast<int>(bottom - (std::log10(std::max(v, y0)) - std::log10(y0)) /
+                                         (std::log10(y1) - std::log10(y0)) * (bottom - top));
   };
   char buf[32];
   for (double d = y0; d <= y1 * 1.01; d *= 10) {

@@ -13,14 +13,13 @@ namespace brdfshot {
 Eigen::MatrixXd ClassicalMds2(const Eigen::MatrixXd& coords);
 
 // Scatter of 2-D points coloured by class, with optional labels.
-cv::Mat ScatterPlot(const Eigen::MatrixXd& xy, const std::vector<int>& cls,
-                    const std::vector<std::string>& labels, const std::string& title);
+cv::Mat ScatterPlot(const Eigen::MatrixXd& xy, const std::vector<int>& cls, const std::vector<std::string>& labels,
+                    const std::string& title);
 
 // One line per series over a shared x index (sorted by the first series),
 // log-scaled y: e.g. per-material relit error of each method.
-cv::Mat LinePlotLog(const std::vector<std::vector<double>>& series,
-                    const std::vector<std::string>& names, const std::string& title,
-                    const std::string& xlabel);
+cv::Mat LinePlotLog(const std::vector<std::vector<double>>& series, const std::vector<std::string>& names,
+                    const std::string& title, const std::string& xlabel);
 
 // Grouped bars (groups × series), linear y.
 cv::Mat BarPlot(const std::vector<std::vector<double>>& values, const std::vector<std::string>& groups,

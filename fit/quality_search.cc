@@ -92,7 +92,8 @@ QualityChoice ChooseQuality(const PixelGeometry& geometry, const LatLongProbe& p
 
   const MatrixXfR B = MaterialColumns(db, mats);
   for (const RenderQuality& q : QualityLadder(base, probe.width())) {
-    QualityTrial trial{q, WorstErrorPerLabel(TransportOperator::Build(sub, probe, db.grid, q).Apply(B), ref.Y, labels), 0};
+    QualityTrial trial{q, WorstErrorPerLabel(TransportOperator::Build(sub, probe, db.grid, q).Apply(B), ref.Y, labels),
+                       0};
     for (const auto& [label, e] : trial.label_error) trial.worst = std::max(trial.worst, e);
     choice.trials.push_back(trial);
     // Every earlier trial missed the target, so one that meets it is also the best so far.

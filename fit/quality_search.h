@@ -38,12 +38,12 @@ std::vector<ErrorTestMaterial> ErrorTestMaterials(const BasisDatabase& db);
 std::vector<RenderQuality> QualityLadder(const RenderQuality& base, int probe_width);
 
 struct QualitySearchOptions {
-  double target = 0.01;        // worst relative RMSE allowed over the test materials' channels
+  double target = 0.01;  // worst relative RMSE allowed over the test materials' channels
   // About this many pixels of the scene carry the error: bench-basis's count.
   // The error sits on a few grazing pixels, so 200 pixels can miss them (sunset,
   // 128²: 0.7 % on 193 pixels, 2.1 % on 779); 700 cost ~60 s of reference on 2 cores.
   int pixels = 700;
-  int reference_theta = 192;   // reference half-vector samples (bench-basis's converged setting)
+  int reference_theta = 192;  // reference half-vector samples (bench-basis's converged setting)
   int reference_phi = 384;
 };
 
@@ -54,9 +54,9 @@ struct QualityTrial {
 };
 
 struct QualityChoice {
-  RenderQuality quality;     // the first trial within target, else the trial with the least error
+  RenderQuality quality;  // the first trial within target, else the trial with the least error
   bool reached = false;
-  double error = 0;          // its worst relative RMSE
+  double error = 0;                  // its worst relative RMSE
   std::vector<QualityTrial> trials;  // in ladder order, up to and including the chosen one when reached
   size_t pixels = 0;                 // pixels the error was measured on
   double reference_seconds = 0;

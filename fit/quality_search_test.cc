@@ -105,8 +105,8 @@ TEST(QualitySearch, StopsAtTheFirstSettingWithinTargetElseKeepsTheBest) {
   const QualityChoice tight = ChooseQuality(s.sphere, s.probe, s.db, RenderQuality{}, FastOptions(1e-7), nullptr);
   EXPECT_FALSE(tight.reached);
   for (const auto& t : tight.trials)
-    std::printf("%2dx%-2d probe %d: worst %.4f\n", t.quality.theta_samples, t.quality.phi_samples, t.quality.probe_width,
-                t.worst);
+    std::printf("%2dx%-2d probe %d: worst %.4f\n", t.quality.theta_samples, t.quality.phi_samples,
+                t.quality.probe_width, t.worst);
   EXPECT_EQ(tight.trials.size(), QualityLadder(RenderQuality{}, s.probe.width()).size());
   double best = 1e9;
   for (const auto& t : tight.trials) best = std::min(best, t.worst);

@@ -19,8 +19,9 @@ Eigen::MatrixXd GramOfRows(const MatrixXfR& Y, const std::vector<int>& rows) {
   for (Eigen::Index r0 = 0; r0 < count; r0 += kBlock) {
     const Eigen::Index m = std::min(kBlock, count - r0);
     const Eigen::MatrixXd blk =
-        rows.empty() ? Eigen::MatrixXd(Y.middleRows(r0, m).cast<double>())
-                     : Eigen::MatrixXd(Y(std::vector<int>(rows.begin() + r0, rows.begin() + r0 + m), Eigen::all).cast<double>());
+        rows.empty()
+            ? Eigen::MatrixXd(Y.middleRows(r0, m).cast<double>())
+            : Eigen::MatrixXd(Y(std::vector<int>(rows.begin() + r0, rows.begin() + r0 + m), Eigen::all).cast<double>());
     g.selfadjointView<Eigen::Lower>().rankUpdate(blk.transpose());
   }
   return g.selfadjointView<Eigen::Lower>();

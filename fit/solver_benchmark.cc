@@ -38,7 +38,8 @@ const Problem& TheProblem() {
         const double scale = std::pow(10.0, 3 * u(rng)), a = u(rng), bx = u(rng) - .5, by = u(rng) - .5, q = u(rng);
         for (size_t i = 0; i < p.g.size(); ++i) {
           const Vec3& m = p.g.normal[i];
-          p.Y[c](static_cast<Eigen::Index>(i), j) = static_cast<float>(scale * (a + bx * m.x + by * m.y + q * m.z * m.z));
+          p.Y[c](static_cast<Eigen::Index>(i), j) =
+              static_cast<float>(scale * (a + bx * m.x + by * m.y + q * m.z * m.z));
         }
       }
     }
@@ -54,7 +55,8 @@ const Problem& TheProblem() {
     std::vector<int> order(n);
     for (int i = 0; i < n; ++i) order[i] = i;
     std::shuffle(order.begin(), order.end(), rng);
-    for (int k = 0, at = 0; k < 4; at += sizes[k++]) p.members.emplace_back(order.begin() + at, order.begin() + at + sizes[k]);
+    for (int k = 0, at = 0; k < 4; at += sizes[k++])
+      p.members.emplace_back(order.begin() + at, order.begin() + at + sizes[k]);
     return p;
   }();
   return p;
@@ -96,7 +98,8 @@ void BM_SolveFixedLambda(benchmark::State& state) {
   const Problem& p = TheProblem();
   const auto f = FactorBasisImages(p.Y, false);
   const auto classes = FactorClasses(f, p.members);
-  for (auto _ : state) benchmark::DoNotOptimize(SolveClasswise(f, classes, MakeObservation(f, p.Y, p.y), SolveOptions{0.5}));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(SolveClasswise(f, classes, MakeObservation(f, p.Y, p.y), SolveOptions{0.5}));
 }
 BENCHMARK(BM_SolveFixedLambda)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -126,7 +129,10 @@ void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
   const CvSystem cv = FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members);
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(0, 1);
-  const MatrixXfR tables = MatrixXfR::NullaryExpr(47000, 300, [&]() { const float v = u(rng); return v * v * v * v; });
+  const MatrixXfR tables = MatrixXfR::NullaryExpr(47000, 300, [&]() {
+    const float v = u(rng);
+    return v * v * v * v;
+  });
   std::vector<Eigen::MatrixXd> class_bins;
   for (const auto& J : p.members) class_bins.push_back(ConstraintBins(tables, J, 1));
   int negative_before = 0;

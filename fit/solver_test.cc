@@ -32,7 +32,8 @@ TEST(Solver, ClassMeanIsRecoveredExactlyWithItsClass) {
   // mean is a fixed point for any λ: weights and class must come back exactly.
   const auto Y = Images(400, 24, 1);
   const auto f = FactorBasisImages(Y, true);
-  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5, 6, 7}, {8, 9, 10, 11, 12, 13}, {14, 15, 16, 17, 18, 19, 20, 21, 22, 23}};
+  const std::vector<std::vector<int>> members = {
+      {0, 1, 2, 3, 4, 5, 6, 7}, {8, 9, 10, 11, 12, 13}, {14, 15, 16, 17, 18, 19, 20, 21, 22, 23}};
   Eigen::MatrixXd w = Eigen::MatrixXd::Zero(24, 3);
   for (int i : members[1]) w.row(i).setConstant(1.0 / 6);
   const ClasswiseFit fit = SolveClasswise(f, MakeObservation(f, Y, Render(Y, w)), members, SolveOptions{});
@@ -44,7 +45,8 @@ TEST(Solver, ClassMeanIsRecoveredExactlyWithItsClass) {
 TEST(Solver, ArbitraryCombinationRecoveredAsLambdaVanishes) {
   const auto Y = Images(300, 20, 2);
   const auto f = FactorBasisImages(Y, true);
-  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, {10, 11, 12, 13, 14, 15, 16, 17, 18, 19}};
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5, 6, 7, 8, 9},
+                                                 {10, 11, 12, 13, 14, 15, 16, 17, 18, 19}};
   Eigen::MatrixXd w = Eigen::MatrixXd::Zero(20, 3);
   for (int i : members[0]) w.row(i) << 0.3 * (i % 3), 0.1 * i, 0.05;
   SolveOptions so;
@@ -144,8 +146,10 @@ TEST(Solver, SingularSystemTakesTheQrPathAndWithoutItTheTruncatedOne) {
   w.row(4).setConstant(0.3);
   const std::vector<int> all = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
   const auto with_qr = FactorBasisImages(Y, true), without = FactorBasisImages(Y, false);
-  const ClassSolution a = SolveClass(with_qr, FactorClasses(with_qr, {all})[0], MakeObservation(with_qr, Y, Render(Y, w)), 0.0);
-  const ClassSolution b = SolveClass(without, FactorClasses(without, {all})[0], MakeObservation(without, Y, Render(Y, w)), 0.0);
+  const ClassSolution a =
+      SolveClass(with_qr, FactorClasses(with_qr, {all})[0], MakeObservation(with_qr, Y, Render(Y, w)), 0.0);
+  const ClassSolution b =
+      SolveClass(without, FactorClasses(without, {all})[0], MakeObservation(without, Y, Render(Y, w)), 0.0);
   EXPECT_EQ(a.path, "qr");
   EXPECT_EQ(b.path, "normal-truncated");
   for (const ClassSolution* s : {&a, &b}) {

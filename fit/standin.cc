@@ -19,9 +19,7 @@ double FresnelSchlick(double f0, double c) { return f0 + (1 - f0) * std::pow(1 -
 
 namespace {
 double Tan2(double cos_t) { return std::max(0.0, 1 - cos_t * cos_t) / (cos_t * cos_t); }
-double SmithLambda(double alpha, double cos_t) {
-  return (-1 + std::sqrt(1 + alpha * alpha * Tan2(cos_t))) / 2;
-}
+double SmithLambda(double alpha, double cos_t) { return (-1 + std::sqrt(1 + alpha * alpha * Tan2(cos_t))) / 2; }
 }  // namespace
 
 double GgxLobe(double k, double alpha, double fresnel, const Vec3& wi, const Vec3& wo) {
@@ -91,8 +89,8 @@ std::vector<StandinMaterial> ReadStandinTable(const std::string& path) {
     if (line.empty() || line[0] == '#') continue;
     std::istringstream s(line);
     StandinMaterial m;
-    s >> m.name >> m.family >> m.kd[0] >> m.kd[1] >> m.kd[2] >> m.sigma >> m.ks1 >> m.alpha1 >>
-        m.ks2 >> m.alpha2 >> m.eta >> m.f0[0] >> m.f0[1] >> m.f0[2];
+    s >> m.name >> m.family >> m.kd[0] >> m.kd[1] >> m.kd[2] >> m.sigma >> m.ks1 >> m.alpha1 >> m.ks2 >> m.alpha2 >>
+        m.eta >> m.f0[0] >> m.f0[1] >> m.f0[2];
     if (!s) throw FileError(path, "line " + std::to_string(lineno) + ": expected 14 columns");
     if (m.family != "diffuse" && m.family != "plastic" && m.family != "metal" && m.family != "paint")
       throw FileError(path, "line " + std::to_string(lineno) + ": unknown family '" + m.family + "'");

@@ -13,7 +13,7 @@ namespace brdfshot {
 struct StandinMaterial {
   std::string name, family;  // family: diffuse | plastic | metal | paint
   double kd[3] = {0, 0, 0};
-  double sigma = 0;          // Oren–Nayar roughness (radians); 0 = Lambert
+  double sigma = 0;  // Oren–Nayar roughness (radians); 0 = Lambert
   double ks1 = 0, alpha1 = 0, ks2 = 0, alpha2 = 0;
   double eta = 1.5;
   double f0[3] = {0, 0, 0};

@@ -10,10 +10,9 @@ namespace brdfshot {
 
 std::string RenderQuality::Describe() const {
   return "theta=" + std::to_string(theta_samples) + ",phi=" + std::to_string(phi_samples) +
-         ",probe=" + std::to_string(probe_width) + ",lights=" + std::to_string(max_lights) + "@" + std::to_string(light_grid_width) +
-         ",level_step=" + std::to_string(level_step_deg) +
-         ",substeps=" + std::to_string(level_substeps) +
-         ",brdf_supersample=" + std::to_string(brdf_supersample);
+         ",probe=" + std::to_string(probe_width) + ",lights=" + std::to_string(max_lights) + "@" +
+         std::to_string(light_grid_width) + ",level_step=" + std::to_string(level_step_deg) +
+         ",substeps=" + std::to_string(level_substeps) + ",brdf_supersample=" + std::to_string(brdf_supersample);
 }
 
 std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share, int grid_width) {
@@ -61,8 +60,8 @@ std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights,
   return lights;
 }
 
-TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLongProbe& probe_in,
-                                           const MerlGrid& grid, const RenderQuality& q) {
+TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLongProbe& probe_in, const MerlGrid& grid,
+                                           const RenderQuality& q) {
   BRDFSHOT_CHECK(q.theta_samples > 0 && q.phi_samples > 0 && q.level_step_deg > 0 && q.level_substeps > 0 &&
                  q.brdf_supersample >= 0);
   BRDFSHOT_CHECK(g.normal.size() == g.size() && g.view.size() == g.size());
@@ -141,8 +140,7 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
   const Eigen::Index S_all = static_cast<Eigen::Index>(samples_.size());
   // Table reads per cell: ~1 per MERL θ_h bin the cell spans (2 changed no
   // error by more than 0.1 % in bench-basis), 2 across φ_h.
-  const int su = quality_.brdf_supersample > 0 ? quality_.brdf_supersample
-                                               : std::max(1, (grid_.n_th + nt - 1) / nt);
+  const int su = quality_.brdf_supersample > 0 ? quality_.brdf_supersample : std::max(1, (grid_.n_th + nt - 1) / nt);
   const int sp = su > 1 ? 2 : 1;
   // Levels are processed in chunks so that only chunk + 1 matrices M live at
   // once; the last level of a chunk is the first of the next.
@@ -299,15 +297,14 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
 }
 
 std::array<MatrixXfR, 3> TransportOperator::Apply(const MatrixXfR& B) const {
-  BRDFSHOT_CHECK(static_cast<size_t>(B.rows()) == grid_.size(), "basis matrix has " << B.rows()
-                 << " rows, operator expects " << grid_.size());
+  BRDFSHOT_CHECK(static_cast<size_t>(B.rows()) == grid_.size(),
+                 "basis matrix has " << B.rows() << " rows, operator expects " << grid_.size());
   const Eigen::Index n = B.cols();
   struct Corner {
     size_t idx;
     double w;
   };
-  return ApplyImpl(n, [&, corners = std::vector<Corner>()](const std::vector<TablePoint>& pts,
-                                                          float* out) mutable {
+  return ApplyImpl(n, [&, corners = std::vector<Corner>()](const std::vector<TablePoint>& pts, float* out) mutable {
     // Gather every point's trilinear corners, merge repeated entries, then read
     // each table row once.
     corners.clear();

@@ -60,13 +60,13 @@ struct RenderQuality {
   // the time and costs the metals ~3 % of error against the probe the user has
   // (`basis --error-target`, forest); plain least squares, the most sensitive
   // to basis-image error, relit 0.080 instead of 0.093 in `eval`.
-  int probe_width = 0;     // probe box-resampled to this width first (0 = as given)
-  int max_lights = 64;     // texels split off as directional lights (0 = none)
-  double light_share = 0.002;  // ...if each holds at least this share of the power
-  int light_grid_width = 512;  // ...counted in blocks of a grid this wide (0: per texel)
-  double level_step_deg = 1.0;   // θ_o spacing of the levels whose table reads are computed
-  int level_substeps = 8;        // pixels snap to step/substeps, M linear in between
-  int brdf_supersample = 0;      // table reads per sample cell along √θ_h (0: auto, ~1 per bin)
+  int probe_width = 0;          // probe box-resampled to this width first (0 = as given)
+  int max_lights = 64;          // texels split off as directional lights (0 = none)
+  double light_share = 0.002;   // ...if each holds at least this share of the power
+  int light_grid_width = 512;   // ...counted in blocks of a grid this wide (0: per texel)
+  double level_step_deg = 1.0;  // θ_o spacing of the levels whose table reads are computed
+  int level_substeps = 8;       // pixels snap to step/substeps, M linear in between
+  int brdf_supersample = 0;     // table reads per sample cell along √θ_h (0: auto, ~1 per bin)
   std::string Describe() const;
 };
 
@@ -78,13 +78,12 @@ struct DirectionalLight {
 // Blocks of the probe on a `grid_width`-wide grid holding ≥ `min_share` of its
 // power (at most `max_lights`, brightest first) become one light each at their
 // power centroid; their texels are zeroed in the probe.
-std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share,
-                                            int grid_width = 0);
+std::vector<DirectionalLight> ExtractLights(LatLongProbe* probe, int max_lights, double min_share, int grid_width = 0);
 
 class TransportOperator {
  public:
-  static TransportOperator Build(const PixelGeometry& geometry, const LatLongProbe& probe,
-                                 const MerlGrid& grid, const RenderQuality& quality);
+  static TransportOperator Build(const PixelGeometry& geometry, const LatLongProbe& probe, const MerlGrid& grid,
+                                 const RenderQuality& quality);
 
   size_t pixels() const { return normal_.size(); }
   const MerlGrid& grid() const { return grid_; }
@@ -127,8 +126,8 @@ class TransportOperator {
 // dense half-vector grid, the unfiltered probe (bilinear) and the BRDF given as
 // a function of (ω_i, ω_o) in the local frame. Slow by design.
 template <typename BrdfFn>
-Eigen::MatrixXd RenderReference(const PixelGeometry& g, const LatLongProbe& probe, BrdfFn brdf,
-                                int theta_samples, int phi_samples);
+Eigen::MatrixXd RenderReference(const PixelGeometry& g, const LatLongProbe& probe, BrdfFn brdf, int theta_samples,
+                                int phi_samples);
 
 }  // namespace brdfshot
 

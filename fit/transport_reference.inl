@@ -6,8 +6,7 @@
 namespace brdfshot {
 
 template <typename BrdfFn>
-Eigen::MatrixXd RenderReference(const PixelGeometry& g, const LatLongProbe& probe, BrdfFn brdf,
-                                int nt, int np) {
+Eigen::MatrixXd RenderReference(const PixelGeometry& g, const LatLongProbe& probe, BrdfFn brdf, int nt, int np) {
   // Suns are split off exactly as in TransportOperator (a dense grid converges on
   // them far too slowly); the remainder is integrated densely and unfiltered.
   LatLongProbe rest = probe;

@@ -113,8 +113,7 @@ SphereCone FitConeRobust(const std::vector<cv::Point2d>& pts, double focal_px, c
     wv = next;
     // Residual as an angle in pixels: d·ŵ − cos α ≈ −sin α · Δangle.
     const double len = wv.norm(), cos_a = 1 / len, sin_a = std::sqrt(1 - cos_a * cos_a);
-    for (size_t i = 0; i < n; ++i)
-      res[i] = (d[i].x * wv(0) + d[i].y * wv(1) + d[i].z * wv(2)) / len - cos_a;
+    for (size_t i = 0; i < n; ++i) res[i] = (d[i].x * wv(0) + d[i].y * wv(1) + d[i].z * wv(2)) / len - cos_a;
     for (double& r : res) r *= focal_px / std::max(sin_a, 1e-9);
     w = TukeyWeights(res, 1e-3);
     if (done) break;

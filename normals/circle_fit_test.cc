@@ -48,7 +48,8 @@ TEST(ConeFit, RecoversAPerspectiveSphereFromItsEllipticalRim) {
   std::vector<cv::Point2d> pts;
   for (int i = 0; i < 360; ++i) {
     const double phi = 2 * kPi * i / 360;
-    const Vec3 d = fr.FromLocal(Vec3(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), std::cos(alpha)));
+    const Vec3 d =
+        fr.FromLocal(Vec3(std::sin(alpha) * std::cos(phi), std::sin(alpha) * std::sin(phi), std::cos(alpha)));
     pts.emplace_back(pp.x + f * d.x / -d.z, pp.y - f * d.y / -d.z);
   }
   FitQuality q;

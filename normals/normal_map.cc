@@ -9,13 +9,21 @@
 namespace brdfshot {
 
 cv::Mat DecodeNormalMap(const cv::Mat& rgb) {
-  if (rgb.channels() != 3) throw Error("a normal map needs 3 channels (x, y, z), not " + std::to_string(rgb.channels()));
+  if (rgb.channels() != 3)
+    throw Error("a normal map needs 3 channels (x, y, z), not " + std::to_string(rgb.channels()));
   cv::Mat n;
   switch (rgb.depth()) {
-    case CV_8U: rgb.convertTo(n, CV_32F, 2.0 / 255, -1); break;
-    case CV_16U: rgb.convertTo(n, CV_32F, 2.0 / 65535, -1); break;
-    case CV_32F: n = rgb.clone(); break;
-    default: throw Error("a normal map must be 8-bit, 16-bit or float");
+    case CV_8U:
+      rgb.convertTo(n, CV_32F, 2.0 / 255, -1);
+      break;
+    case CV_16U:
+      rgb.convertTo(n, CV_32F, 2.0 / 65535, -1);
+      break;
+    case CV_32F:
+      n = rgb.clone();
+      break;
+    default:
+      throw Error("a normal map must be 8-bit, 16-bit or float");
   }
   for (int y = 0; y < n.rows; ++y)
     for (int x = 0; x < n.cols; ++x) {

@@ -18,10 +18,10 @@ namespace brdfshot {
 cv::Mat DecodeNormalMap(const cv::Mat& rgb);
 
 struct NormalMapOptions {
-  double focal_px = 0;             // > 0: pinhole camera (view = −pixel ray); 0: orthographic (view = +Z)
-  cv::Point2d principal{-1, -1};   // default: the image centre
-  double max_angle_deg = 80;       // drop pixels whose normal is further than this from the view
-  int erode_px = 1;                // the mask shrunk by this many pixels: its edge mixes background
+  double focal_px = 0;            // > 0: pinhole camera (view = −pixel ray); 0: orthographic (view = +Z)
+  cv::Point2d principal{-1, -1};  // default: the image centre
+  double max_angle_deg = 80;      // drop pixels whose normal is further than this from the view
+  int erode_px = 1;               // the mask shrunk by this many pixels: its edge mixes background
 };
 
 // Every pixel with a normal, set in `mask` (CV_8U, nonzero = object; empty:

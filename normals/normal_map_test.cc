@@ -105,7 +105,8 @@ TEST(NormalMap, ErosionKeepsPixelsAwayFromTheSilhouette) {
   o.erode_px = 2;
   const PixelGeometry inner = NormalMapGeometry(n, cv::Mat(), o, Rotation());
   double closest_all = 1e9, closest_inner = 1e9;
-  for (size_t i = 0; i < all.size(); ++i) closest_all = std::min(closest_all, v.RimDistance(all.x[i] + 0.5, all.y[i] + 0.5));
+  for (size_t i = 0; i < all.size(); ++i)
+    closest_all = std::min(closest_all, v.RimDistance(all.x[i] + 0.5, all.y[i] + 0.5));
   for (size_t i = 0; i < inner.size(); ++i)
     closest_inner = std::min(closest_inner, v.RimDistance(inner.x[i] + 0.5, inner.y[i] + 0.5));
   EXPECT_LT(closest_all, 0.5);

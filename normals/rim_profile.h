@@ -35,11 +35,10 @@ class RimProfileModel {
   // Profile `p` sampled at radii r0 + i·step (i < n); search s₀ within ±1 px of
   // `guess`, fitting samples within ±`half_window` px (≤ 0: 4σ + 1). Returns s₀
   // and the residual sum of squares (NaN if the window leaves the profile).
-  double Fit(const float* p, int n, double r0, double step, double guess, double* rss,
-             double half_window = 0) const;
+  double Fit(const float* p, int n, double r0, double step, double guess, double* rss, double half_window = 0) const;
 
  private:
-  double Ramp(double u) const;        // R_σ(u)
+  double Ramp(double u) const;  // R_σ(u)
   // max(0, u) blurred by σ, given the blurred step Φ(u/σ)
   double InsideLine(double u, double step_u) const;
   double sigma_;

@@ -12,8 +12,8 @@ namespace {
 // A rim profile built from its definition, independently of the model: the
 // step at s0 between `inside(depth)` and a flat background, convolved with a
 // Gaussian of `sigma` by direct quadrature, sampled at r0 + i·step.
-std::vector<float> BlurredRim(const std::function<double(double)>& inside, double background, double s0,
-                              double sigma, double r0, double step, int n) {
+std::vector<float> BlurredRim(const std::function<double(double)>& inside, double background, double s0, double sigma,
+                              double r0, double step, int n) {
   std::vector<float> p(n);
   const double dt = 1.0 / 512;
   for (int i = 0; i < n; ++i) {

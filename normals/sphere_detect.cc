@@ -84,8 +84,8 @@ cv::Mat ColourStepProjection(const cv::Mat& rgb) {
 
 }  // namespace
 
-std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
-                                          double r_hi, int rays, double* rim_blur, bool log_pick, bool colour) {
+std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo, double r_hi,
+                                          int rays, double* rim_blur, bool log_pick, bool colour) {
   BRDFSHOT_CHECK((image.type() == CV_32F || image.type() == CV_32FC3) && rays > 0 && r_hi > r_lo && r_lo >= 0);
   const double step = 0.25;  // pixels along the ray
   const int n = static_cast<int>((r_hi - r_lo) / step) + 1;
@@ -160,7 +160,8 @@ std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2
     std::vector<const float*> sample;
     std::vector<double> guesses;
     for (int k = 0; k < rays; k += std::max(1, rays / 32))
-      if (where[k] >= 0 && strength[k] >= min_strength) sample.push_back(prof.ptr<float>(k)), guesses.push_back(where[k]);
+      if (where[k] >= 0 && strength[k] >= min_strength)
+        sample.push_back(prof.ptr<float>(k)), guesses.push_back(where[k]);
     *rim_blur = EstimateRimBlur(sample, n, r_lo, step, guesses);
     const RimProfileModel model(*rim_blur);
     std::vector<double> misfit(rays, -1.0);
@@ -268,8 +269,8 @@ std::vector<RankedCircle> RankByRimSupport(const cv::Mat& lin, const std::vector
   for (size_t i = 0; i < std::min<size_t>(cands.size(), 40); ++i) {
     Circle c = cands[i];
     const double band = std::max(4.0, 0.06 * c.r);
-    const std::vector<cv::Point2d> pts =
-        RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band), c.r + 2 * band, 90, nullptr, log_pick, colour);
+    const std::vector<cv::Point2d> pts = RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - 2 * band),
+                                                          c.r + 2 * band, 90, nullptr, log_pick, colour);
     // Hough's circle can be a band's width off (the coarser scale's are):
     // the rim is counted around a robust fit to the edges it found, when that
     // fit stays near the candidate.
@@ -307,8 +308,9 @@ bool RefineRim(const cv::Mat& lin, const Circle& coarse, const SphereDetectOptio
     // Under perspective the rim is an ellipse; around the apparent circle it
     // strays by up to r (1 − cos θ_c), θ_c the centre's angle off axis.
     const double ellipse = det->perspective && pass ? c.r * (1 + det->cone.centre_dir.z) : 0.0;
-    const double band = pass == 0 ? std::max(8.0, 0.12 * c.r) : pass == 1 ? std::max(6.0, 0.03 * c.r) + ellipse
-                                                                           : 14.0 + ellipse;
+    const double band = pass == 0   ? std::max(8.0, 0.12 * c.r)
+                        : pass == 1 ? std::max(6.0, 0.03 * c.r) + ellipse
+                                    : 14.0 + ellipse;
     det->edge_points = RadialEdgePoints(lin, {c.cx, c.cy}, std::max(0.0, c.r - band), c.r + band, o.rays,
                                         pass == 2 ? &det->blur_sigma : nullptr, o.log_edges, o.colour_rims);
     if (det->perspective) {
@@ -405,8 +407,8 @@ SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOption
   }
   if (ranked.empty())
     throw NoSphereFound("no sphere found (" + std::to_string(cands.size()) + " circle candidates" +
-                (picked ? ", none around the given point" : "") + ", best rim support " +
-                std::to_string(static_cast<int>(100 * best_support)) + " %, need 50 %)");
+                        (picked ? ", none around the given point" : "") + ", best rim support " +
+                        std::to_string(static_cast<int>(100 * best_support)) + " %, need 50 %)");
   // The sub-pixel stage on a candidate; false when its rim fails the test or
   // has too few edge points for a circle at all.
   auto refine = [&](const Circle& coarse, SphereDetection* d) {
@@ -436,9 +438,9 @@ SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOption
   }
   if (!found)
     throw NoSphereFound("no sphere found: the best circle's rim fits to " + std::to_string(best_rim.quality.rms_px) +
-                " px rms over " + std::to_string(best_rim.quality.inliers) + " of " + std::to_string(o.rays) +
-                " rays (need ≤ 1 px over 30 %)" +
-                (best_rim.perspective ? "" : "; if the sphere is seen in perspective, give the focal length"));
+                        " px rms over " + std::to_string(best_rim.quality.inliers) + " of " + std::to_string(o.rays) +
+                        " rays (need ≤ 1 px over 30 %)" +
+                        (best_rim.perspective ? "" : "; if the sphere is seen in perspective, give the focal length"));
   if (picked) return det;
   // A second sphere beside the first (two samples in one shot, a grey ball
   // next to the sample): measuring either silently could fit the wrong

@@ -26,12 +26,12 @@
 namespace brdfshot {
 
 struct SphereDetectOptions {
-  int coarse_max_side = 512;     // the Hough search runs on a copy this small
-  double min_radius = 0.04;      // of the image's shorter side
+  int coarse_max_side = 512;  // the Hough search runs on a copy this small
+  double min_radius = 0.04;   // of the image's shorter side
   double max_radius = 0.5;
-  int rays = 720;                // radial profiles for the sub-pixel edge
-  double focal_px = 0;           // > 0: perspective model (silhouette is an ellipse)
-  cv::Point2d principal{-1, -1}; // default: image centre
+  int rays = 720;                 // radial profiles for the sub-pixel edge
+  double focal_px = 0;            // > 0: perspective model (silhouette is an ellipse)
+  cv::Point2d principal{-1, -1};  // default: image centre
   // When the photo holds several spheres, the one around this pixel
   // (continuous coordinates). Default (negative): the photo must hold one.
   cv::Point2d near{-1, -1};
@@ -45,17 +45,16 @@ struct SphereDetectOptions {
   bool colour_rims = false;
 };
 
-
 struct SphereDetection {
-  Circle coarse;        // Hough's circle, full-resolution pixels
-  Circle circle;        // refined: the silhouette (orthographic) or the cone's apparent circle
+  Circle coarse;  // Hough's circle, full-resolution pixels
+  Circle circle;  // refined: the silhouette (orthographic) or the cone's apparent circle
   bool perspective = false;
-  SphereCone cone;      // perspective only
+  SphereCone cone;  // perspective only
   double focal_px = 0;
   cv::Point2d principal;
   FitQuality quality;
-  double blur_sigma = 0;  // optical blur at the rim, px (rim model)
-  bool rim_in_shadow = false;  // found only by log-luminance edges: expect ~0.5 px, not ~0.1 px
+  double blur_sigma = 0;                 // optical blur at the rim, px (rim model)
+  bool rim_in_shadow = false;            // found only by log-luminance edges: expect ~0.5 px, not ~0.1 px
   std::vector<cv::Point2d> edge_points;  // of the last pass, for pictures
 };
 
@@ -90,8 +89,8 @@ SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& opti
 // whose strongest step is weaker than a quarter of the median ray's are dropped.
 // `log_pick`: the steepest point in log luminance instead (its strength still
 // linear), for rims whose linear steepest point is a shading terminator.
-std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo,
-                                          double r_hi, int rays, double* rim_blur = nullptr, bool log_pick = false,
+std::vector<cv::Point2d> RadialEdgePoints(const cv::Mat& image, const cv::Point2d& centre, double r_lo, double r_hi,
+                                          int rays, double* rim_blur = nullptr, bool log_pick = false,
                                           bool colour = false);
 
 // OpenCV's HoughCircles on the reduced log luminance (and colour ratios with

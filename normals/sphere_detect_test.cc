@@ -39,8 +39,8 @@ TEST(SphereDetect, OrthographicSubPixelAndBetterThanHough) {
     });
     const double e = std::max(CentreError(d.circle, s.circle), std::abs(d.circle.r - s.circle.r));
     const double eh = std::max(CentreError(hough[0], s.circle), std::abs(hough[0].r - s.circle.r));
-    std::printf("seed %d r %.1f: ours %.3f px (%d/%d inliers), Hough %.3f px\n", seed, s.circle.r, e,
-                d.quality.inliers, d.quality.points, eh);
+    std::printf("seed %d r %.1f: ours %.3f px (%d/%d inliers), Hough %.3f px\n", seed, s.circle.r, e, d.quality.inliers,
+                d.quality.points, eh);
     EXPECT_LE(e, 0.1) << "seed " << seed;
     worst_ours = std::max(worst_ours, e);
     worst_hough = std::max(worst_hough, eh);
@@ -174,8 +174,10 @@ TEST(SphereDetect, DiligentSideLitBallsFoundThroughTheLogFallback) {
     worst_centre = std::max(worst_centre, std::hypot(d.circle.cx - front.circle.cx, d.circle.cy - front.circle.cy));
     worst_radius = std::max(worst_radius, std::abs(d.circle.r - front.circle.r));
   }
-  std::printf("DiLiGenT: %d of %d lights found, %d by log edges; all within %.2f px (centre), %.2f px "
-              "(radius) of light 4's sphere\n", found, tried, in_shadow, worst_centre, worst_radius);
+  std::printf(
+      "DiLiGenT: %d of %d lights found, %d by log edges; all within %.2f px (centre), %.2f px "
+      "(radius) of light 4's sphere\n",
+      found, tried, in_shadow, worst_centre, worst_radius);
   EXPECT_GE(found, tried * 8 / 10);
   EXPECT_GE(in_shadow, tried / 3);
   EXPECT_LT(worst_centre, 1.0);

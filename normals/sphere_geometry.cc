@@ -47,8 +47,7 @@ PixelGeometry OrthographicSphere(int resolution, double max_angle_deg) {
 cv::Mat PixelsToImage(const PixelGeometry& g, const Eigen::MatrixXd& rgb) {
   BRDFSHOT_CHECK(static_cast<size_t>(rgb.rows()) == g.size() && rgb.cols() == 3);
   cv::Mat img(g.height, g.width, CV_32FC3, cv::Scalar::all(0));
-  for (size_t p = 0; p < g.size(); ++p)
-    img.at<cv::Vec3f>(g.y[p], g.x[p]) = cv::Vec3f(rgb(p, 0), rgb(p, 1), rgb(p, 2));
+  for (size_t p = 0; p < g.size(); ++p) img.at<cv::Vec3f>(g.y[p], g.x[p]) = cv::Vec3f(rgb(p, 0), rgb(p, 1), rgb(p, 2));
   return img;
 }
 

@@ -15,12 +15,12 @@
 namespace brdfshot {
 
 struct PixelGeometry {
-  int width = 0, height = 0;       // image the pixels live in
-  std::vector<int> x, y;           // pixel coordinates
-  std::vector<Vec3> normal;        // unit, probe frame
-  std::vector<Vec3> view;          // unit, towards the camera, probe frame
+  int width = 0, height = 0;  // image the pixels live in
+  std::vector<int> x, y;      // pixel coordinates
+  std::vector<Vec3> normal;   // unit, probe frame
+  std::vector<Vec3> view;     // unit, towards the camera, probe frame
   size_t size() const { return x.size(); }
-  uint64_t Hash() const;           // keys basis-image caches
+  uint64_t Hash() const;  // keys basis-image caches
 };
 
 // An orthographic camera at +Z looking down −Z (image up = +Y) at a unit sphere

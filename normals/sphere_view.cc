@@ -89,8 +89,8 @@ SphereView SphereView::FromJson(const nlohmann::json& j, const std::string& sour
   return v;
 }
 
-PixelGeometry SphereViewGeometry(const SphereView& v, const Rotation& camera_to_probe,
-                                 const SphereMaskOptions& o, const cv::Mat& exclude) {
+PixelGeometry SphereViewGeometry(const SphereView& v, const Rotation& camera_to_probe, const SphereMaskOptions& o,
+                                 const cv::Mat& exclude) {
   BRDFSHOT_CHECK(exclude.empty() || (exclude.type() == CV_8U && exclude.cols == v.width && exclude.rows == v.height),
                  "exclusion mask must be CV_8U of the photo's size");
   PixelGeometry g;

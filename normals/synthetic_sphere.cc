@@ -40,9 +40,15 @@ cv::Mat RenderSyntheticSphere(const SyntheticSphereScene& s) {
     const int size = static_cast<int>((0.02 + 0.15 * U(rng)) * side);
     const cv::Scalar col(0.05 + 0.6 * U(rng), 0.05 + 0.6 * U(rng), 0.05 + 0.6 * U(rng));
     switch (i % 3) {
-      case 0: cv::rectangle(img, p, p + cv::Point(size, size / 2), col, cv::FILLED); break;
-      case 1: cv::circle(img, p, size / 2, col, cv::FILLED); break;
-      default: cv::circle(img, p, size, col, std::max(1, size / 10)); break;
+      case 0:
+        cv::rectangle(img, p, p + cv::Point(size, size / 2), col, cv::FILLED);
+        break;
+      case 1:
+        cv::circle(img, p, size / 2, col, cv::FILLED);
+        break;
+      default:
+        cv::circle(img, p, size, col, std::max(1, size / 10));
+        break;
     }
   }
   // The sphere as a camera model: the same ray tracing the pipeline uses for
@@ -60,8 +66,7 @@ cv::Mat RenderSyntheticSphere(const SyntheticSphereScene& s) {
         const int k = 16;
         cv::Vec3f sum(0, 0, 0);
         for (int j = 0; j < k; ++j)
-          for (int i = 0; i < k; ++i)
-            sum += view.Trace(x + (i + 0.5) / k, y + (j + 0.5) / k, &n, &w) ? Shade(n) : out;
+          for (int i = 0; i < k; ++i) sum += view.Trace(x + (i + 0.5) / k, y + (j + 0.5) / k, &n, &w) ? Shade(n) : out;
         out = sum / static_cast<float>(k * k);
       }
   };

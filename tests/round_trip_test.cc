@@ -22,9 +22,7 @@ namespace {
 constexpr int kWidth = 800, kHeight = 600;
 constexpr double kFocal = 900;
 
-double Degrees(const Vec3& a, const Vec3& b) {
-  return std::acos(std::clamp(Dot(a, b), -1.0, 1.0)) * 180 / kPi;
-}
+double Degrees(const Vec3& a, const Vec3& b) { return std::acos(std::clamp(Dot(a, b), -1.0, 1.0)) * 180 / kPi; }
 
 double Percentile(std::vector<double> v, double p) {
   std::sort(v.begin(), v.end());
@@ -121,15 +119,15 @@ TEST(RoundTrip, PixelDirectionsInTheProbeFrameFromADetectedSphereAndAMirrorBall)
     const DirectionErrors camera = Compare(SphereViewGeometry(PerspectiveView(TrueCone(scene)), Rotation(), mask),
                                            SphereViewGeometry(seen, Rotation(), mask));
     const DirectionErrors probe_frame = Compare(want, SphereViewGeometry(seen, fit.rotation, mask));
-    std::printf("rotation %g,%g,%g: ball gives %.2f,%.2f,%.2f (%.3f deg off; %.3f unwrapped as orthographic); "
-                "%zu pixels (%zu not in the truth's mask)\n"
-                "  camera frame: normal median %.3f p99 %.3f max %.3f deg\n"
-                "  probe frame:  normal median %.3f p99 %.3f, view median %.3f p99 %.3f deg\n",
-                ypr[0], ypr[1], ypr[2], fit.yaw, fit.pitch, fit.roll, rotation_err, flat_err, probe_frame.pixels,
-                probe_frame.unmatched, Percentile(camera.normal, 0.5), Percentile(camera.normal, 0.99),
-                Percentile(camera.normal, 1.0), Percentile(probe_frame.normal, 0.5),
-                Percentile(probe_frame.normal, 0.99), Percentile(probe_frame.view, 0.5),
-                Percentile(probe_frame.view, 0.99));
+    std::printf(
+        "rotation %g,%g,%g: ball gives %.2f,%.2f,%.2f (%.3f deg off; %.3f unwrapped as orthographic); "
+        "%zu pixels (%zu not in the truth's mask)\n"
+        "  camera frame: normal median %.3f p99 %.3f max %.3f deg\n"
+        "  probe frame:  normal median %.3f p99 %.3f, view median %.3f p99 %.3f deg\n",
+        ypr[0], ypr[1], ypr[2], fit.yaw, fit.pitch, fit.roll, rotation_err, flat_err, probe_frame.pixels,
+        probe_frame.unmatched, Percentile(camera.normal, 0.5), Percentile(camera.normal, 0.99),
+        Percentile(camera.normal, 1.0), Percentile(probe_frame.normal, 0.5), Percentile(probe_frame.normal, 0.99),
+        Percentile(probe_frame.view, 0.5), Percentile(probe_frame.view, 0.99));
     // Bounds: the detector's centre and radius are within 0.1 px (bench-detect),
     // which on this ~130 px sphere turns a normal by ≤ 0.05° at the centre and
     // more towards the 80° limit; the rotation is within 0.5° (one texel of the

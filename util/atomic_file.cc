@@ -15,8 +15,7 @@ namespace fs = std::filesystem;
 namespace {
 std::string TempPathFor(const std::string& path) {
   const fs::path p(path);
-  return (p.parent_path() / (p.stem().string() + ".tmp" + std::to_string(::getpid()) +
-                             p.extension().string()))
+  return (p.parent_path() / (p.stem().string() + ".tmp" + std::to_string(::getpid()) + p.extension().string()))
       .string();
 }
 
@@ -38,8 +37,7 @@ void Commit(const std::string& tmp, const std::string& path) {
 }
 }  // namespace
 
-void WriteFileAtomic(const std::string& path,
-                     const std::function<void(std::ostream&)>& write) {
+void WriteFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
   CheckOutputPath(path);
   const std::string tmp = TempPathFor(path);
   {
@@ -62,8 +60,7 @@ void WriteFileAtomic(const std::string& path,
   Commit(tmp, path);
 }
 
-void WriteFileAtomicByName(const std::string& path,
-                           const std::function<void(const std::string&)>& write) {
+void WriteFileAtomicByName(const std::string& path, const std::function<void(const std::string&)>& write) {
   CheckOutputPath(path);
   const std::string tmp = TempPathFor(path);
   try {

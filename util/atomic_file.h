@@ -13,14 +13,12 @@ namespace brdfshot {
 // Calls `write(stream)` on a temporary beside `path`, then renames it over `path`.
 // Throws brdfshot::Error naming `path` if the folder is not writable or the write
 // fails; the temporary is removed on every failure.
-void WriteFileAtomic(const std::string& path,
-                     const std::function<void(std::ostream&)>& write);
+void WriteFileAtomic(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 // For writers that need a file name (OpenEXR, OpenCV): `write(tmp_path)` must
 // create tmp_path; it is renamed onto `path` on success and removed on failure.
 // The temporary keeps `path`'s extension so format-by-extension writers work.
-void WriteFileAtomicByName(const std::string& path,
-                           const std::function<void(const std::string&)>& write);
+void WriteFileAtomicByName(const std::string& path, const std::function<void(const std::string&)>& write);
 
 // Reads a whole file; Error naming the file if it cannot be opened or is a folder.
 std::string ReadFileBytes(const std::string& path);

@@ -31,7 +31,10 @@ TEST_F(AtomicFileTest, FailedWriterLeavesOldFileUntouchedAndNoTemp) {
                Error);
   EXPECT_EQ(ReadFileBytes(path), "old");
   int files = 0;
-  for (auto& e : fs::directory_iterator(dir_)) { (void)e; ++files; }
+  for (auto& e : fs::directory_iterator(dir_)) {
+    (void)e;
+    ++files;
+  }
   EXPECT_EQ(files, 1) << "temporary file left behind";
 }
 

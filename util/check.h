@@ -17,13 +17,10 @@ class Error : public std::runtime_error {
 };
 
 // Error about a file: "<path>: <problem>".
-inline Error FileError(const std::string& path, const std::string& problem) {
-  return Error(path + ": " + problem);
-}
+inline Error FileError(const std::string& path, const std::string& problem) { return Error(path + ": " + problem); }
 
 namespace internal {
-[[noreturn]] inline void CheckFailed(const char* expr, const char* file, int line,
-                                     const std::string& msg) {
+[[noreturn]] inline void CheckFailed(const char* expr, const char* file, int line, const std::string& msg) {
   std::ostringstream s;
   s << "internal check failed: " << expr << " at " << file << ":" << line;
   if (!msg.empty()) s << " (" << msg << ")";
@@ -33,12 +30,11 @@ namespace internal {
 
 }  // namespace brdfshot
 
-#define BRDFSHOT_CHECK(cond, ...)                                                  \
-  do {                                                                            \
-    if (!(cond)) {                                                                \
-      std::ostringstream brdfshot_check_msg_;                                     \
-      brdfshot_check_msg_ << "" __VA_ARGS__;                                      \
-      ::brdfshot::internal::CheckFailed(#cond, __FILE__, __LINE__,                \
-                                        brdfshot_check_msg_.str());               \
-    }                                                                             \
+#define BRDFSHOT_CHECK(cond, ...)                                                              \
+  do {                                                                                         \
+    if (!(cond)) {                                                                             \
+      std::ostringstream brdfshot_check_msg_;                                                  \
+      brdfshot_check_msg_ << "" __VA_ARGS__;                                                   \
+      ::brdfshot::internal::CheckFailed(#cond, __FILE__, __LINE__, brdfshot_check_msg_.str()); \
+    }                                                                                          \
   } while (0)

@@ -20,8 +20,7 @@ bool IsDir(const fs::path& p) {
 std::string DataRoot(const std::string& flag) {
   if (!flag.empty()) return flag;
   if (const char* env = std::getenv("BRDFSHOT_DATA"); env && *env) return env;
-  for (const fs::path& candidate :
-       {fs::path("../shared"), fs::path(BRDFSHOT_SOURCE_DIR_FALLBACK) / ".." / "shared"}) {
+  for (const fs::path& candidate : {fs::path("../shared"), fs::path(BRDFSHOT_SOURCE_DIR_FALLBACK) / ".." / "shared"}) {
     if (IsDir(candidate)) return fs::weakly_canonical(candidate).string();
   }
   return "";
@@ -44,7 +43,8 @@ std::string AssetPath(const std::string& relative) {
 }
 
 std::string RepoDataPath(const std::string& relative) {
-  for (const fs::path& base : {fs::path("data"), fs::path("../data"), fs::path(BRDFSHOT_SOURCE_DIR_FALLBACK) / "data"}) {
+  for (const fs::path& base :
+       {fs::path("data"), fs::path("../data"), fs::path(BRDFSHOT_SOURCE_DIR_FALLBACK) / "data"}) {
     const fs::path p = base / relative;
     std::error_code ec;
     if (fs::exists(p, ec)) return fs::weakly_canonical(p, ec).string();
@@ -53,8 +53,7 @@ std::string RepoDataPath(const std::string& relative) {
 }
 
 std::string CacheDir() {
-  if (const char* env = std::getenv("BRDFSHOT_CACHE"); env && *env)
-    return std::string(env) == "off" ? "" : env;
+  if (const char* env = std::getenv("BRDFSHOT_CACHE"); env && *env) return std::string(env) == "off" ? "" : env;
   if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return (fs::path(xdg) / "brdfshot").string();
   if (const char* home = std::getenv("HOME"); home && *home) return (fs::path(home) / ".cache" / "brdfshot").string();
   return "";

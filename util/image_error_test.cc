@@ -11,8 +11,8 @@ TEST(CompareLinearImages, ClosedFormsOnTwoPixelsAndBlackBackground) {
   // Reference: one lit pixel (1,2,2) (‖·‖ = 3) and one black background pixel.
   cv::Mat ref(1, 2, CV_32FC3, cv::Scalar::all(0)), test(1, 2, CV_32FC3, cv::Scalar::all(0));
   ref.at<cv::Vec3f>(0, 0) = {1, 2, 2};
-  test.at<cv::Vec3f>(0, 0) = {2, 4, 4};    // twice the reference
-  test.at<cv::Vec3f>(0, 1) = {9, 9, 9};    // over background: not scored
+  test.at<cv::Vec3f>(0, 0) = {2, 4, 4};  // twice the reference
+  test.at<cv::Vec3f>(0, 1) = {9, 9, 9};  // over background: not scored
   const ImageError plain = CompareLinearImages(ref, test);
   EXPECT_EQ(plain.pixels, 1u);
   EXPECT_DOUBLE_EQ(plain.scale, 1.0);

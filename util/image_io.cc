@@ -57,7 +57,8 @@ int64_t CheckExrHeaderSizes(const std::string& path) {
   std::error_code ec;
   const auto file_size = static_cast<int64_t>(std::filesystem::file_size(path, ec));
   unsigned char magic[8];
-  if (ec || !in.read(reinterpret_cast<char*>(magic), 8)) throw FileError(path, "not a readable OpenEXR file: too short");
+  if (ec || !in.read(reinterpret_cast<char*>(magic), 8))
+    throw FileError(path, "not a readable OpenEXR file: too short");
   if (magic[0] != 0x76 || magic[1] != 0x2f || magic[2] != 0x31 || magic[3] != 0x01)
     throw FileError(path, "not a readable OpenEXR file: bad magic number");
   const size_t max_name = (magic[5] & 0x04) ? 255 : 31;  // "long names" flag
@@ -139,8 +140,7 @@ cv::Mat ReadExr(const std::string& path) {
     Imf::FrameBuffer fb;
     const char* names[3] = {"R", "G", "B"};
     for (int c = 0; c < (rgb ? 3 : 1); ++c)
-      fb.insert(rgb ? names[c] : "Y",
-                Imf::Slice::Make(Imf::FLOAT, out.ptr<float>() + c, dw, xs, ys, 1, 1, 0.0));
+      fb.insert(rgb ? names[c] : "Y", Imf::Slice::Make(Imf::FLOAT, out.ptr<float>() + c, dw, xs, ys, 1, 1, 0.0));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     if (!rgb) {  // luminance-only file: grey
@@ -178,8 +178,8 @@ void CheckRadianceOrPfmHeader(const std::string& path, const std::string& ext) {
     const bool too_wide = w > (1 << 20) || h > (1 << 20);
     const long long need = too_wide ? 0 : w * h * (head[1] == 'F' ? 3 : 1) * 4;
     if (ec || too_wide || static_cast<long long>(bytes) < need)
-      throw FileError(path, "PFM header says " + std::to_string(w) + "x" + std::to_string(h) + " pixels, more than its " +
-                                std::to_string(ec ? 0 : bytes) + " bytes hold (truncated)");
+      throw FileError(path, "PFM header says " + std::to_string(w) + "x" + std::to_string(h) +
+                                " pixels, more than its " + std::to_string(ec ? 0 : bytes) + " bytes hold (truncated)");
   } else if (head.size() < 2 || head[0] != '#' || head[1] != '?') {
     throw FileError(path, "not a Radiance HDR file (it does not start with '#?')");
   }
@@ -209,8 +209,7 @@ cv::Mat ReadHdrImage(const std::string& path) {
   } else {
     throw FileError(path, "unknown HDR extension '" + ext + "' (expected .exr, .hdr or .pfm)");
   }
-  if (!cv::checkRange(rgb, true, nullptr, -1e30, 1e30))
-    throw FileError(path, "contains NaN or Inf pixels");
+  if (!cv::checkRange(rgb, true, nullptr, -1e30, 1e30)) throw FileError(path, "contains NaN or Inf pixels");
   return rgb;
 }
 

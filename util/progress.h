@@ -12,8 +12,11 @@ namespace brdfshot {
 class Progress {
  public:
   Progress(std::string what, size_t total, bool enabled)
-      : what_(std::move(what)), total_(total), enabled_(enabled),
-        start_(std::chrono::steady_clock::now()), last_(start_) {}
+      : what_(std::move(what)),
+        total_(total),
+        enabled_(enabled),
+        start_(std::chrono::steady_clock::now()),
+        last_(start_) {}
   void Step(size_t n = 1) {
     if (!enabled_) return;
     std::lock_guard<std::mutex> lock(mu_);
@@ -22,8 +25,7 @@ class Progress {
     if (done_ < total_ && now - last_ < std::chrono::milliseconds(500)) return;
     last_ = now;
     const double s = std::chrono::duration<double>(now - start_).count();
-    std::fprintf(stderr, "\r%s: %zu/%zu (%.1f s)%s", what_.c_str(), done_, total_, s,
-                 done_ >= total_ ? "\n" : "");
+    std::fprintf(stderr, "\r%s: %zu/%zu (%.1f s)%s", what_.c_str(), done_, total_, s, done_ >= total_ ? "\n" : "");
     std::fflush(stderr);
   }
 
@@ -39,9 +41,7 @@ class Progress {
 class Stopwatch {
  public:
   Stopwatch() : t0_(std::chrono::steady_clock::now()) {}
-  double Seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-  }
+  double Seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
 
  private:
   std::chrono::steady_clock::time_point t0_;

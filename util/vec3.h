@@ -37,8 +37,7 @@ struct Frame {
     const double sign = std::copysign(1.0, n.z);
     const double a = -1.0 / (sign + n.z);
     const double b = n.x * n.y * a;
-    return {Vec3(1 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-            Vec3(b, sign + n.y * n.y * a, -n.y), n};
+    return {Vec3(1 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3(b, sign + n.y * n.y * a, -n.y), n};
   }
   // Frame with z = n and x in the plane of n and `towards` (e.g. the view vector),
   // so a local direction's azimuth is measured from that plane.
