@@ -9,10 +9,10 @@
 
 namespace brdfshot {
 
-Eigen::MatrixXd ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride) {
+MatrixXdR ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride) {
   BRDFSHOT_CHECK(stride >= 1);
   const Eigen::Index rows = (tables.rows() + stride - 1) / stride;
-  Eigen::MatrixXd out(rows, static_cast<Eigen::Index>(members.size()));
+  MatrixXdR out(rows, static_cast<Eigen::Index>(members.size()));
   for (Eigen::Index i = 0; i < rows; ++i)
     for (size_t k = 0; k < members.size(); ++k) out(i, static_cast<Eigen::Index>(k)) = tables(i * stride, members[k]);
   return out;
@@ -41,7 +41,7 @@ std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& m
 }
 
 BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, const Eigen::VectorXd& w0,
-                                                  const Eigen::MatrixXd& A, double tolerance, int max_rounds,
+                                                  const MatrixXdR& A, double tolerance, int max_rounds,
                                                   int bins_per_round) {
   const Eigen::Index k = w0.size();
   BRDFSHOT_CHECK(K.rows() == k && K.cols() == k && A.cols() == k, "ConstrainToNonNegativeBins: sizes differ");

@@ -36,8 +36,8 @@ struct BinConstrainedSolution {
 // order (bins × k). A bin counts as negative below −tolerance × the largest
 // value of A w₀ (an active bin sits at zero up to rounding).
 BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, const Eigen::VectorXd& w0,
-                                                  const Eigen::MatrixXd& A, double tolerance = 1e-9,
-                                                  int max_rounds = 30, int bins_per_round = 256);
+                                                  const MatrixXdR& A, double tolerance = 1e-9, int max_rounds = 30,
+                                                  int bins_per_round = 256);
 
 // A value Σ_i w_i b_i counts as negative below −kNegativeBinTolerance ·
 // Σ_i |w_i b_i|: beyond the float rounding of the sum, at which a bin the
@@ -50,6 +50,6 @@ std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& m
 
 // The rows of `tables` every `stride`-th bin, restricted to columns `members`,
 // in double: the A of ConstrainToNonNegativeBins.
-Eigen::MatrixXd ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride);
+MatrixXdR ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride);
 
 }  // namespace brdfshot

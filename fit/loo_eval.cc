@@ -148,7 +148,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     SolveOptions so;
     so.lambda = opt.lambda;
     const std::array<const Eigen::MatrixXd*, 3> gcos = {&in.gram_cos, &in.gram_cos, &in.gram_cos};
-    std::map<int, Eigen::MatrixXd> constraint_bins;  // per chosen class of material m
+    std::map<int, MatrixXdR> constraint_bins;  // per chosen class of material m
     for (int a = 0; a < S; ++a) {
       if (in.scenes[a].scoring_only) continue;
       const auto& fa = in.scenes[a].f;

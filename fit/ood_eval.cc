@@ -112,7 +112,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
     }
   }
   // The constrained bins of each candidate class (the same members in every scene).
-  std::vector<Eigen::MatrixXd> class_bins(auto_members.size());
+  std::vector<MatrixXdR> class_bins(auto_members.size());
   if (opt.constraint == WeightConstraint::Kind::kBins)
     for (size_t j = 0; j < auto_members.size(); ++j)
       class_bins[j] = ConstraintBins(bases.constraint_sample, auto_members[j], 1);

@@ -49,7 +49,7 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   const std::vector<int> fold_of_pixel = WedgeFolds(basis.geometry, folds);
   const CvSystem cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
   // Every class's constrained bins: they depend on the database, not the photo.
-  std::vector<Eigen::MatrixXd> class_bins(classes.size());
+  std::vector<MatrixXdR> class_bins(classes.size());
   if (opt.constraint == WeightConstraint::Kind::kBins) {
     if (!tables) throw Error("the non-negative-bin constraint needs the database's tables");
     for (size_t j = 0; j < classes.size(); ++j)
@@ -67,7 +67,7 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   out.fit.chosen = out.choice.chosen_class;
   WeightConstraint constraint;
   constraint.kind = opt.constraint;
-  Eigen::MatrixXd& bins = class_bins[out.fit.chosen];
+  MatrixXdR& bins = class_bins[out.fit.chosen];
   if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &bins;
   if (out.fit.classes[out.fit.chosen].path != "normal" && opt.constraint != WeightConstraint::Kind::kWeights) {
     // Too ill-conditioned for the normal equations (λ near 0): solve the chosen

@@ -118,7 +118,7 @@ struct WeightConstraint {
   Kind kind = Kind::kNone;
   // kBins: the tables' rows at the sampled bins, restricted to the class's
   // members in their order (bins × members).
-  const Eigen::MatrixXd* bins = nullptr;
+  const MatrixXdR* bins = nullptr;
 };
 
 // One class's solve over R, G, B at weight λ (λ_j = λ‖y_c‖²/c_j per channel),

@@ -133,7 +133,7 @@ void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
     const float v = u(rng);
     return v * v * v * v;
   });
-  std::vector<Eigen::MatrixXd> class_bins;
+  std::vector<MatrixXdR> class_bins;
   for (const auto& J : p.members) class_bins.push_back(ConstraintBins(tables, J, 1));
   int negative_before = 0;
   for (auto _ : state) {
