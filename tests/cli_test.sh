@@ -69,7 +69,11 @@ grep -q '"lambda": 0.5' "$T/fitl/fit.json" && pass=$((pass+1)) || { echo "FAIL -
 check fit-bad-rule 1 "unknown --lambda-rule 'best'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-rule best -o "$T/fitb1"
 check fit-bad-grid 1 "bad --lambda-grid '0.1,x'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-grid 0.1,x -o "$T/fitb2"
 check fit-bad-folds 1 "--folds must be at least 2" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --folds 1 -o "$T/fitb3"
-[ ! -e "$T/fitb1" ] && [ ! -e "$T/fitb2" ] && [ ! -e "$T/fitb3" ] && pass=$((pass+1)) || { echo "FAIL a refused fit left an output folder"; fail=$((fail+1)); }
+check fit-bad-constraint 1 "unknown --constraint 'positive'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --constraint positive -o "$T/fitb4"
+[ ! -e "$T/fitb1" ] && [ ! -e "$T/fitb2" ] && [ ! -e "$T/fitb3" ] && [ ! -e "$T/fitb4" ] && pass=$((pass+1)) || { echo "FAIL a refused fit left an output folder"; fail=$((fail+1)); }
+# The default keeps the BRDF non-negative and says so.
+grep -q '"weights_constraint": "non-negative bins"' "$T/fit/fit.json" && pass=$((pass+1)) \
+  || { echo "FAIL fit.json does not record the non-negative constraint"; fail=$((fail+1)); }
 check photo-size 1 "basis images are for" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$PROBE" --classes "$T/c.json" -o "$T/fit2"
 # The staged chain: detect the sphere in a padded render, remap, basis and fit on the observations.
 check render-pad 0 "wrote" -- "$B" render --standin demo-steel $DB --probe "$PROBE" --sphere 64 --pad 20 -o "$T/padded.exr"
