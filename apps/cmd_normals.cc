@@ -8,6 +8,7 @@
 
 #include "apps/command.h"
 #include "capture/merge_sidecar.h"
+#include "normals/sphere_from_photo.h"
 #include "apps/common_options.h"
 #include "normals/sphere_detect.h"
 #include "normals/sphere_view.h"
@@ -41,16 +42,7 @@ int NormalsMain(int argc, char** argv) {
   pos.add("photo", 1);
   if (!ParseOptions("normals", "PHOTO [options]", desc, argc, argv, &pos)) return 0;
   if (overlay.empty()) overlay = std::filesystem::path(out).replace_extension(".png").string();
-  cv::Mat rgb;
-  const std::string ext = std::filesystem::path(photo_path).extension().string();
-  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") {
-    rgb = ReadHdrImage(photo_path);
-  } else {
-    const cv::Mat bgr = cv::imread(photo_path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
-    if (bgr.empty()) throw FileError(photo_path, "cannot decode image");
-    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-    rgb.convertTo(rgb, CV_32FC3);
-  }
+  const cv::Mat rgb = ReadPhotoForDetection(photo_path);
   if (!near.empty()) {
     const std::vector<double> p = ParseNumberList(near, 2, "--near", "X,Y in pixels");
     o.near = {p[0], p[1]};
@@ -72,59 +64,23 @@ int NormalsMain(int argc, char** argv) {
     throw FileError(photo_path, e.what());
   }
   const double secs = sw.Seconds();
-  // A sphere cut by the border is still measured (the visible rim fixes the
-  // circle), but the user should know part of it is missing.
-  int outside = 0;
-  for (int k = 0; k < 360; ++k) {
-    const double a = 2 * kPi * k / 360, x = det.circle.cx + det.circle.r * std::cos(a),
-                 y = det.circle.cy + det.circle.r * std::sin(a);
-    outside += x < 0 || y < 0 || x > rgb.cols || y > rgb.rows;
-  }
   if (det.rim_in_shadow)
     std::fprintf(stderr,
                  "warning: %s: part of the sphere's rim is in shadow; found from log-luminance edges, "
                  "expect ~0.5 px instead of ~0.1 px (a photo lit from the camera's side measures it better)\n",
                  photo_path.c_str());
-  if (outside > 0)
+  // A sphere cut by the border is still measured (the visible rim fixes the
+  // circle), but the user should know part of it is missing.
+  if (const int outside = RimOutsidePercent(det.circle, rgb.size()); outside > 0)
     std::fprintf(stderr,
                  "warning: %s: the sphere is cut by the image border (%d %% of its rim outside); "
                  "the fit uses the visible rim\n",
-                 photo_path.c_str(), (outside * 100 + 359) / 360);
-  SphereView v;
-  v.width = rgb.cols;
-  v.height = rgb.rows;
-  v.circle = det.circle;
-  v.perspective = det.perspective;
-  v.focal_px = det.focal_px;
-  v.principal = det.principal;
-  v.cone = det.cone;
-  nlohmann::json j = v.ToJson();
-  j["photo"] = photo_path;
-  j["fit"] = {{"edge_points", det.quality.points},
-              {"inliers", det.quality.inliers},
-              {"rms_px", det.quality.rms_px},
-              {"rim_in_shadow", det.rim_in_shadow},
-              {"blur_sigma_px", det.blur_sigma},
-              {"coarse", {det.coarse.cx, det.coarse.cy, det.coarse.r}},
-              {"seconds", secs}};
-  WriteFileAtomic(out, [&](std::ostream& s) { s << j.dump(1) << "\n"; });
-  if (!normal_map_out.empty()) {
-    cv::Mat map(v.height, v.width, CV_32FC3, cv::Scalar::all(0));
-    const cv::Rect box = v.Bounds(2);
-    for (int y = box.y; y < box.y + box.height; ++y)
-      for (int x = box.x; x < box.x + box.width; ++x) {
-        Vec3 normal, view;
-        if (v.Trace(x + 0.5, y + 0.5, &normal, &view))
-          map.at<cv::Vec3f>(y, x) = cv::Vec3f(float(normal.x), float(normal.y), float(normal.z));
-      }
-    WriteExr(normal_map_out, map);
-  }
-  // Overlay: the photo, the rim points used (green) and the fitted rim (red).
-  cv::Mat png = TonemapToBgr8(rgb, AutoExposure(rgb));
-  for (const auto& p : det.edge_points) cv::circle(png, cv::Point(int(p.x), int(p.y)), 1, {0, 200, 0}, cv::FILLED);
-  cv::circle(png, cv::Point(int(v.circle.cx * 16), int(v.circle.cy * 16)), int(v.circle.r * 16), {0, 0, 255}, 1,
-             cv::LINE_AA, 4);
-  WritePng(overlay, png);
+                 photo_path.c_str(), outside);
+  const SphereView v = ViewOfDetection(det, rgb.size());
+  const std::string text = SphereFileJson(v, det, photo_path, secs).dump(1);
+  WriteFileAtomic(out, [&](std::ostream& s) { s << text << "\n"; });
+  if (!normal_map_out.empty()) WriteExr(normal_map_out, NormalMapOf(v));
+  WritePng(overlay, DetectionOverlay(rgb, det));
   const std::string camera =
       v.perspective
           ? "perspective, f " + std::to_string(static_cast<int>(std::lround(v.focal_px))) + " px " + focal_from
