@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "apps/command.h"
 #include "calib/calibration.h"
@@ -16,27 +15,6 @@
 
 namespace brdfshot {
 namespace po = boost::program_options;
-
-namespace {
-// A normal map and its mask as the user gives them (any convex object):
-// 8/16-bit PNG or float EXR/PFM normals, an 8-bit mask; Error naming the file.
-cv::Mat ReadNormalMap(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  cv::Mat rgb;
-  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") {
-    rgb = ReadHdrImage(path);
-  } else {
-    const cv::Mat bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
-    if (bgr.empty()) throw FileError(path, "cannot decode normal map");
-    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  }
-  try {
-    return DecodeNormalMap(rgb);
-  } catch (const Error& e) {
-    throw FileError(path, e.what());
-  }
-}
-}  // namespace
 
 int RemapMain(int argc, char** argv) {
   std::string photo_path, sphere_path, normal_map_path, object_mask_path, calib_path, unreliable_path,
@@ -102,17 +80,12 @@ int RemapMain(int argc, char** argv) {
     if (unreliable.empty()) throw FileError(unreliable_path, "cannot decode mask");
     if (unreliable.size() != photo.size()) throw FileError(unreliable_path, "mask size differs from the photo's");
   }
-  Observations obs;
   const std::string& geometry_path = sphere_path.empty() ? normal_map_path : sphere_path;
-  obs.geometry = sphere_path.empty() ? NormalMapGeometry(normal_map, object_mask, map_options, rot, unreliable)
-                                     : SphereViewGeometry(view, rot, mask, unreliable);
-  if (obs.geometry.size() < 16)
-    throw FileError(geometry_path, "leaves " + std::to_string(obs.geometry.size()) + " usable pixels");
-  obs.rgb.resize(obs.geometry.size(), 3);
-  for (size_t p = 0; p < obs.geometry.size(); ++p) {
-    const cv::Vec3f v = photo.at<cv::Vec3f>(obs.geometry.y[p], obs.geometry.x[p]);
-    for (int c = 0; c < 3; ++c) obs.rgb(p, c) = v[c] / scale[c];
-  }
+  Observations obs =
+      ObservePixels(photo,
+                    sphere_path.empty() ? NormalMapGeometry(normal_map, object_mask, map_options, rot, unreliable)
+                                        : SphereViewGeometry(view, rot, mask, unreliable),
+                    scale, geometry_path);
   obs.header = {{"photo", photo_path},
                 {"sphere", sphere_path},
                 {"normal_map", normal_map_path},

@@ -1,10 +1,12 @@
 #include "normals/normal_map.h"
 
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "normals/circle_fit.h"
 #include "util/check.h"
+#include "util/image_io.h"
 
 namespace brdfshot {
 
@@ -66,6 +68,23 @@ PixelGeometry NormalMapGeometry(const cv::Mat& normals, const cv::Mat& mask, con
       g.view.push_back(camera_to_probe(view));
     }
   return g;
+}
+
+cv::Mat ReadNormalMap(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  cv::Mat rgb;
+  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") {
+    rgb = ReadHdrImage(path);
+  } else {
+    const cv::Mat bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
+    if (bgr.empty()) throw FileError(path, "cannot decode normal map");
+    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  }
+  try {
+    return DecodeNormalMap(rgb);
+  } catch (const Error& e) {
+    throw FileError(path, e.what());
+  }
 }
 
 }  // namespace brdfshot

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "normals/sphere_geometry.h"
 #include "util/rotation.h"
@@ -16,6 +17,10 @@ namespace brdfshot {
 // Returns CV_32FC3 of unit normals; a pixel whose stored vector is far from
 // unit length (|n| outside 0.5…1.5, e.g. a black background) becomes (0, 0, 0).
 cv::Mat DecodeNormalMap(const cv::Mat& rgb);
+
+// A normal map as the user gives it: 8/16-bit PNG ((n + 1)/2) or float
+// EXR/HDR/PFM, decoded by DecodeNormalMap; FileError naming the file.
+cv::Mat ReadNormalMap(const std::string& path);
 
 struct NormalMapOptions {
   double focal_px = 0;            // > 0: pinhole camera (view = −pixel ray); 0: orthographic (view = +Z)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -142,6 +143,18 @@ TEST(NormalMap, DiligentGroundTruthMapAgreesWithTheDetectedSphere) {
               err[err.size() / 2], err[err.size() * 9 / 10]);
   EXPECT_LT(err[err.size() / 2], 1.0);
   EXPECT_LT(err[err.size() * 9 / 10], 2.0);
+}
+
+TEST(ReadNormalMap, UndecodableFileIsNamed) {
+  const std::string path = (std::filesystem::temp_directory_path() / "brdfshot_not_a_map.png").string();
+  std::ofstream(path) << "not a png";
+  try {
+    ReadNormalMap(path);
+    ADD_FAILURE() << "garbage decoded";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": cannot decode normal map"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
 }
 
 }  // namespace

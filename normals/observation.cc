@@ -81,4 +81,19 @@ Observations Observations::Parse(const std::string& bytes, const std::string& na
   return o;
 }
 
+Observations ObservePixels(const cv::Mat& photo_rgb32f, PixelGeometry geometry, const cv::Vec3d& scale,
+                           const std::string& geometry_source) {
+  BRDFSHOT_CHECK(photo_rgb32f.type() == CV_32FC3);
+  if (geometry.size() < 16)
+    throw FileError(geometry_source, "leaves " + std::to_string(geometry.size()) + " usable pixels");
+  Observations obs;
+  obs.geometry = std::move(geometry);
+  obs.rgb.resize(static_cast<Eigen::Index>(obs.geometry.size()), 3);
+  for (size_t p = 0; p < obs.geometry.size(); ++p) {
+    const cv::Vec3f v = photo_rgb32f.at<cv::Vec3f>(obs.geometry.y[p], obs.geometry.x[p]);
+    for (int c = 0; c < 3; ++c) obs.rgb(static_cast<Eigen::Index>(p), c) = v[c] / scale[c];
+  }
+  return obs;
+}
+
 }  // namespace brdfshot

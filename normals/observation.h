@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <string>
 
 #include "normals/sphere_geometry.h"
@@ -29,5 +30,11 @@ struct Observations {
   static Observations Read(const std::string& path);
   static Observations Parse(const std::string& bytes, const std::string& name);
 };
+
+// The photo's radiance at the geometry's pixels, divided per channel by
+// `scale` (photo units per probe unit), header empty. FileError naming
+// `geometry_source` when fewer than 16 pixels are left to fit.
+Observations ObservePixels(const cv::Mat& photo_rgb32f, PixelGeometry geometry, const cv::Vec3d& scale,
+                           const std::string& geometry_source);
 
 }  // namespace brdfshot
