@@ -13,8 +13,8 @@
 // with w₀ the unconstrained solution and K = H⁺. Only the bins that go
 // negative ever get a multiplier, so the bins are added in rounds (a cutting
 // plane): solve, find the bins below zero, add them, solve the dual again.
-// A few hundred bins of the 1.46 M are active at the end; the rest are never
-// touched beyond one product per round.
+// The dual's size is the number of bins that ever went negative, not the
+// table's; every other bin costs one product per round.
 #pragma once
 
 #include <Eigen/Core>
