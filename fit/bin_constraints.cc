@@ -9,13 +9,19 @@
 
 namespace brdfshot {
 
+MatrixXdR TableRows(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& rows) {
+  MatrixXdR out(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(members.size()));
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t k = 0; k < members.size(); ++k)
+      out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = tables(rows[i], members[k]);
+  return out;
+}
+
 MatrixXdR ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride) {
   BRDFSHOT_CHECK(stride >= 1);
-  const Eigen::Index rows = (tables.rows() + stride - 1) / stride;
-  MatrixXdR out(rows, static_cast<Eigen::Index>(members.size()));
-  for (Eigen::Index i = 0; i < rows; ++i)
-    for (size_t k = 0; k < members.size(); ++k) out(i, static_cast<Eigen::Index>(k)) = tables(i * stride, members[k]);
-  return out;
+  std::vector<int> rows;
+  for (Eigen::Index i = 0; i < tables.rows(); i += stride) rows.push_back(static_cast<int>(i));
+  return TableRows(tables, members, rows);
 }
 
 std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ) {
@@ -40,11 +46,11 @@ std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& m
   return out;
 }
 
-BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, const Eigen::VectorXd& w0,
-                                                  const MatrixXdR& A, double tolerance, int max_rounds,
-                                                  int bins_per_round) {
+BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::MatrixXd()>& inverse,
+                                                  const Eigen::VectorXd& w0, const MatrixXdR& A, double tolerance,
+                                                  int max_rounds, int bins_per_round) {
   const Eigen::Index k = w0.size();
-  BRDFSHOT_CHECK(K.rows() == k && K.cols() == k && A.cols() == k, "ConstrainToNonNegativeBins: sizes differ");
+  BRDFSHOT_CHECK(A.cols() == k, "ConstrainToNonNegativeBins: sizes differ");
   BinConstrainedSolution s;
   s.w = w0;
   if (A.rows() == 0 || k == 0) {
@@ -56,6 +62,7 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, cons
   std::vector<int> rows;  // the bins with a multiplier so far
   std::vector<char> in(A.rows(), 0);
   Eigen::VectorXd values = v0;
+  Eigen::MatrixXd K;  // from inverse(), at the first round
   for (s.rounds = 0; s.rounds < max_rounds; ++s.rounds) {
     std::vector<int> negative;
     for (Eigen::Index i = 0; i < values.size(); ++i)
@@ -68,6 +75,10 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, cons
     std::partial_sort(negative.begin(), negative.begin() + take, negative.end(),
                       [&](int a, int b) { return values[a] < values[b]; });
     for (size_t i = 0; i < take; ++i) rows.push_back(negative[i]), in[negative[i]] = 1;
+    if (K.size() == 0) {
+      K = inverse();
+      BRDFSHOT_CHECK(K.rows() == k && K.cols() == k, "ConstrainToNonNegativeBins: the inverse's size differs");
+    }
     // The dual over the bins so far: Q = A_C K A_Cᵀ, its linear term A_C w₀.
     const Eigen::MatrixXd Ac = A(rows, Eigen::all);
     const Eigen::MatrixXd KAt = K * Ac.transpose();

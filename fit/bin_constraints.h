@@ -18,6 +18,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "util/eigen_types.h"
@@ -31,12 +32,14 @@ struct BinConstrainedSolution {
   bool complete = false;  // no sampled bin outside the active set below −tolerance (false: the round cap was hit)
 };
 
-// K: (G_JJ + λ_j I)⁺ (k × k); w0: the unconstrained solution (k); A: the
+// inverse(): K = (G_JJ + λ_j I)⁺ (k × k), asked for only when some bin is
+// below zero (it costs a k³ product, most fits never need it); w0: the unconstrained solution (k); A: the
 // tables' rows at the sampled bins, restricted to the class's members in
 // order (bins × k). A bin counts as negative below −tolerance × the largest
 // value of A w₀ (an active bin sits at zero up to rounding).
-BinConstrainedSolution ConstrainToNonNegativeBins(const Eigen::MatrixXd& K, const Eigen::VectorXd& w0,
-                                                  const MatrixXdR& A, double tolerance = 1e-9, int max_rounds = 30,
+BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::MatrixXd()>& inverse,
+                                                  const Eigen::VectorXd& w0, const MatrixXdR& A,
+                                                  double tolerance = 1e-9, int max_rounds = 30,
                                                   int bins_per_round = 256);
 
 // A value Σ_i w_i b_i counts as negative below −kNegativeBinTolerance ·
@@ -51,5 +54,7 @@ std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& m
 // The rows of `tables` every `stride`-th bin, restricted to columns `members`,
 // in double: the A of ConstrainToNonNegativeBins.
 MatrixXdR ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride);
+// The same for the listed rows.
+MatrixXdR TableRows(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& rows);
 
 }  // namespace brdfshot

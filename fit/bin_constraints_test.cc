@@ -44,7 +44,14 @@ TEST(ConstrainToNonNegativeBins, LeavesAFeasibleSolutionAlone) {
   const Eigen::MatrixXd H = Eigen::MatrixXd::Identity(3, 3);
   const Eigen::VectorXd w0 = Eigen::Vector3d(1, 2, 0.5);
   const Eigen::MatrixXd A = (Eigen::MatrixXd(2, 3) << 1, 0, 0, 0.5, 0.5, 1).finished();
-  const BinConstrainedSolution s = ConstrainToNonNegativeBins(H, w0, A);
+  bool asked = false;
+  const BinConstrainedSolution s = ConstrainToNonNegativeBins(
+      [&] {
+        asked = true;
+        return H;
+      },
+      w0, A);
+  EXPECT_FALSE(asked) << "no bin below zero: the inverse is never needed";
   EXPECT_TRUE(s.complete);
   EXPECT_EQ(s.active, 0);
   EXPECT_EQ(s.w, w0);
@@ -68,7 +75,7 @@ TEST(ConstrainToNonNegativeBins, MatchesEnumerationOfActiveSets) {
     for (Eigen::Index i = 0; i < A.size(); ++i) A.data()[i] = u(rng);
     const Eigen::MatrixXd K = H.inverse();
     const Eigen::VectorXd w0 = K * b;
-    const BinConstrainedSolution s = ConstrainToNonNegativeBins(K, w0, A, 1e-12);
+    const BinConstrainedSolution s = ConstrainToNonNegativeBins([&] { return K; }, w0, A, 1e-12);
     ASSERT_TRUE(s.complete) << trial;
     EXPECT_GE((A * s.w).minCoeff(), -1e-9 * (A * w0).cwiseAbs().maxCoeff()) << trial;
     const double best = BruteForceOptimum(H, b, A);
@@ -83,7 +90,7 @@ TEST(ConstrainToNonNegativeBins, OppositeBinsPinTheWeightAtZero) {
   const Eigen::MatrixXd K = Eigen::MatrixXd::Identity(1, 1);
   const Eigen::VectorXd w0 = Eigen::VectorXd::Constant(1, 3.0);
   const Eigen::MatrixXd A = (Eigen::MatrixXd(2, 1) << 1, -1).finished();
-  const BinConstrainedSolution s = ConstrainToNonNegativeBins(K, w0, A);
+  const BinConstrainedSolution s = ConstrainToNonNegativeBins([&] { return K; }, w0, A);
   EXPECT_TRUE(s.complete);
   EXPECT_NEAR(s.w[0], 0.0, 1e-12);
 }

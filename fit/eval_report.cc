@@ -27,6 +27,25 @@ std::map<std::string, std::map<std::string, double>> PerMaterial(const Evaluatio
   for (const LooRow& row : ev.result.rows) out[row.method][row.material] += row.relit_mean;
   return out;
 }
+
+// Per group: its material count and each method's median relit error (in
+// the order of `methods`).
+struct GroupSummary {
+  int materials = 0;
+  std::vector<double> median_relit;
+};
+std::vector<GroupSummary> SummariseGroups(const Evaluation& ev, const std::vector<std::string>& methods) {
+  std::vector<GroupSummary> out(ev.groups.size());
+  for (const auto& m : ev.materials) out[ev.group_of.at(m)].materials++;
+  for (size_t k = 0; k < out.size(); ++k)
+    for (const auto& meth : methods) {
+      std::vector<double> v;
+      for (const LooRow& row : ev.result.rows)
+        if (row.method == meth && ev.group_of.at(row.material) == static_cast<int>(k)) v.push_back(row.relit_mean);
+      out[k].median_relit.push_back(Median(v));
+    }
+  return out;
+}
 }  // namespace
 
 std::vector<std::string> EvaluationMethods(const Evaluation& ev) {
@@ -137,16 +156,10 @@ std::string EvaluationMarkdown(const Evaluation& ev, const std::string& settings
   md << "\n|---|---|";
   for (size_t i = 0; i < methods.size(); ++i) md << "---|";
   md << "\n";
-  for (size_t k = 0; k < ev.groups.size(); ++k) {
-    int count = 0;
-    for (const auto& m : ev.materials) count += ev.group_of.at(m) == static_cast<int>(k);
-    md << "| " << ev.groups[k] << " | " << count << " |";
-    for (const auto& meth : methods) {
-      std::vector<double> v;
-      for (const LooRow& row : ev.result.rows)
-        if (row.method == meth && ev.group_of.at(row.material) == static_cast<int>(k)) v.push_back(row.relit_mean);
-      md << " " << Cell(Median(v)) << " |";
-    }
+  const std::vector<GroupSummary> groups = SummariseGroups(ev, methods);
+  for (size_t k = 0; k < groups.size(); ++k) {
+    md << "| " << ev.groups[k] << " | " << groups[k].materials << " |";
+    for (double median : groups[k].median_relit) md << " " << Cell(median) << " |";
     md << "\n";
   }
   std::snprintf(
@@ -176,18 +189,10 @@ std::vector<std::string> WriteEvaluationPlots(const Evaluation& ev, const std::s
   }
   std::vector<std::vector<double>> bars;
   std::vector<std::string> groups;
-  for (size_t k = 0; k < ev.groups.size(); ++k) {
-    std::vector<double> b;
-    for (const auto& meth : methods) {
-      std::vector<double> v;
-      for (const LooRow& row : ev.result.rows)
-        if (row.method == meth && ev.group_of.at(row.material) == static_cast<int>(k)) v.push_back(row.relit_mean);
-      b.push_back(Median(v));
-    }
-    int count = 0;
-    for (const auto& m : ev.materials) count += ev.group_of.at(m) == static_cast<int>(k);
-    bars.push_back(b);
-    groups.push_back(ev.groups[k] + " (" + std::to_string(count) + ")");
+  const std::vector<GroupSummary> summary = SummariseGroups(ev, methods);
+  for (size_t k = 0; k < summary.size(); ++k) {
+    bars.push_back(summary[k].median_relit);
+    groups.push_back(ev.groups[k] + " (" + std::to_string(summary[k].materials) + ")");
   }
   const std::string per_material = dir + "/relit_per_material.png", per_group = dir + "/relit_per_group.png";
   WritePng(per_material, LinePlotLog(series, order, "relit error per material (mean over probes), " + ev.database_label,

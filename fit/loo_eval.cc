@@ -82,6 +82,27 @@ std::vector<double> NegativeBinShares(const MatrixXfR& bins, const Eigen::Matrix
 
 double NegativeBinShare(const MatrixXfR& bins, const Eigen::MatrixXd& w) { return NegativeBinShares(bins, w)[0]; }
 
+LooRow MethodRow(const FittedMethod& method, const std::string& material, const std::string& probe,
+                 const LambdaChoice& choice, double fixed_lambda) {
+  LooRow row;
+  row.material = material;
+  row.probe = probe;
+  row.method = method.name;
+  row.chosen_class = method.chosen_class;
+  const std::string name = method.name;
+  if (name.rfind("auto", 0) == 0) row.lambda = choice.lambda, row.predicted = choice.predicted_error;
+  if (name == "ours" || name == "paper") row.lambda = fixed_lambda;
+  return row;
+}
+
+void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& methods, LooRow* rows) {
+  if (methods.empty()) return;
+  Eigen::MatrixXd W(methods[0].w.rows(), 3 * static_cast<Eigen::Index>(methods.size()));
+  for (size_t i = 0; i < methods.size(); ++i) W.middleCols(3 * static_cast<Eigen::Index>(i), 3) = methods[i].w;
+  const std::vector<double> negative = NegativeBinShares(bins, W);
+  for (size_t i = 0; i < methods.size(); ++i) rows[i].negative_bins = negative[i];
+}
+
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -153,11 +174,6 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       if (in.scenes[a].scoring_only) continue;
       const auto& fa = in.scenes[a].f;
       const Observation obs = BasisObservation(fa, {3 * m, 3 * m + 1, 3 * m + 2});
-      struct Method {
-        const char* name;
-        Eigen::MatrixXd w;
-        int cls;
-      };
       const std::vector<ClassSpectrum> ours_classes = FactorClasses(fa, ours_members);
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes, obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, obs, paper_members, so);
@@ -183,22 +199,15 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
                    .first;
         constraint.bins = &it->second;
       }
-      const Method methods[] = {
+      const std::vector<FittedMethod> methods = {
           {"auto", SolveClass(fa, picked, obs, choice.lambda, constraint).weights, choice.chosen_class},
           {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
           {"ours", ours.weights(), ours.chosen},
           {"paper", paper.weights(), paper.chosen},
           {"lsq", SolveLeastSquares(fa, obs, keep), -1},
           {"oracle", oracle, -1}};
-      for (const Method& meth : methods) {
-        LooRow row;
-        row.material = in.materials[m];
-        row.probe = in.scenes[a].probe;
-        row.method = meth.name;
-        row.chosen_class = meth.cls;
-        if (meth.cls >= 0 && std::string(meth.name).rfind("auto", 0) == 0)
-          row.lambda = choice.lambda, row.predicted = choice.predicted_error;
-        if (std::string(meth.name) == "ours" || std::string(meth.name) == "paper") row.lambda = opt.lambda;
+      for (const FittedMethod& meth : methods) {
+        LooRow row = MethodRow(meth, in.materials[m], in.scenes[a].probe, choice, opt.lambda);
         ScoreRelit(
             in.scenes, a,
             [&](int b) {
@@ -210,11 +219,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
         row.insample = RelativeError({&fa[0].gram, &fa[1].gram, &fa[2].gram}, meth.w, m);
         per_material[m].push_back(row);
       }
-      Eigen::MatrixXd W(n, 3 * std::size(methods));
-      for (size_t i = 0; i < std::size(methods); ++i) W.middleCols(3 * i, 3) = methods[i].w;
-      const std::vector<double> negative = NegativeBinShares(in.bin_sample, W);
-      for (size_t i = 0; i < std::size(methods); ++i)
-        per_material[m][per_material[m].size() - std::size(methods) + i].negative_bins = negative[i];
+      SetNegativeBins(in.bin_sample, methods, &per_material[m][per_material[m].size() - methods.size()]);
     }
     t_solve[m] = sw2.Seconds();
     progress.Step();

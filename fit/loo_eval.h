@@ -84,6 +84,23 @@ struct LooRow {
   double negative_bins = -1;      // NegativeBinShare of the fitted BRDF (-1: not counted)
 };
 
+// One method's fit of one photo, as the evaluations score it.
+struct FittedMethod {
+  const char* name;
+  Eigen::MatrixXd w;  // n × 3
+  int chosen_class;   // -1 for methods without classes
+};
+
+// The row of a fit, before scoring: which material, probe and method, and how
+// λ was set ("auto…": the choice's λ and predicted error; "ours" and
+// "paper": `fixed_lambda`).
+LooRow MethodRow(const FittedMethod& method, const std::string& material, const std::string& probe,
+                 const LambdaChoice& choice, double fixed_lambda);
+
+// Sets rows[i].negative_bins = NegativeBinShare(bins, methods[i].w) for every
+// method, reading the bins once for all of them.
+void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& methods, LooRow* rows);
+
 // Fills row's relit_mean / relit_median (over the fitted scenes b ≠ a) and
 // relit_directional (over the scoring-only scenes) from error(b), the fit's
 // relit error under scene b.

@@ -149,38 +149,26 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
           if (b != a) rhs += scenes[b].cross[c].col(t);
         oracle.col(c) = oracle_inverse[a][c] * rhs;
       }
-      struct Method {
-        const char* name;
-        Eigen::MatrixXd w;
-        int cls;
-      };
       const ClassSpectrum& picked = auto_classes[a][choice.chosen_class];
       WeightConstraint constraint;
       constraint.kind = opt.constraint;
       if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &class_bins[choice.chosen_class];
-      const Method methods[] = {
+      const std::vector<FittedMethod> methods = {
           {"auto", SolveClass(fa, picked, obs, choice.lambda, constraint).weights, choice.chosen_class},
           {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
           {"ours", ours.weights(), ours.chosen},
           {"paper", paper.weights(), paper.chosen},
           {"lsq", SolveLeastSquares(fa, obs, all), -1},
           {"relit-oracle", oracle, -1}};
-      for (const Method& m : methods) {
-        LooRow row;
-        row.material = targets[t];
-        row.probe = bases.scenes[a].probe;
-        row.method = m.name;
-        row.chosen_class = m.cls;
-        if (std::string(m.name).rfind("auto", 0) == 0)
-          row.lambda = choice.lambda, row.predicted = choice.predicted_error;
-        if (std::string(m.name) == "ours" || std::string(m.name) == "paper") row.lambda = opt.lambda;
+      for (const FittedMethod& m : methods) {
+        LooRow row = MethodRow(m, targets[t], bases.scenes[a].probe, choice, opt.lambda);
         ScoreRelit(
             bases.scenes, a, [&](int b) { return TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t); }, &row);
         row.brdf = std::nan("");
-        row.negative_bins = NegativeBinShare(bases.bin_sample, m.w);
         row.insample = TargetError(fa.data(), ta, m.w, t);
         per_target[t].push_back(row);
       }
+      SetNegativeBins(bases.bin_sample, methods, &per_target[t][per_target[t].size() - methods.size()]);
     }
     progress.Step();
   }

@@ -89,10 +89,7 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
     if (negative.empty()) break;
     const Eigen::Index old = bins.rows();
     bins.conservativeResize(old + static_cast<Eigen::Index>(negative.size()), Eigen::NoChange);
-    for (size_t r = 0; r < negative.size(); ++r)
-      for (size_t k = 0; k < chosen.members.size(); ++k)
-        bins(old + static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(k)) =
-            (*tables)(negative[r], chosen.members[k]);
+    bins.bottomRows(static_cast<Eigen::Index>(negative.size())) = TableRows(*tables, chosen.members, negative);
     out.fit.classes[out.fit.chosen] = SolveClass(f, chosen, obs, out.choice.lambda, constraint);
   }
   out.seconds_table_check = check.Seconds();

@@ -196,9 +196,7 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
     if (constraint.kind == WeightConstraint::Kind::kBins) {
       BRDFSHOT_CHECK(constraint.bins && constraint.bins->cols() == static_cast<Eigen::Index>(J.size()),
                      "the constraint's bins must be restricted to the class's members");
-      // (G_JJ + λ_j I)⁺ costs a k³ product: only when some bin is below zero.
-      if ((*constraint.bins * w).minCoeff() < 0)
-        w = ConstrainToNonNegativeBins(SpectrumInverse(cls, c, lj), w, *constraint.bins).w;
+      w = ConstrainToNonNegativeBins([&] { return SpectrumInverse(cls, c, lj); }, w, *constraint.bins).w;
     }
     // ‖Y_J w − y‖² = wᵀG_JJ w − 2 wᵀz_J + ‖y‖²: accurate to ~1e-16 ‖y‖², ample
     // for comparing classes.

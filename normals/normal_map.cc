@@ -1,7 +1,6 @@
 #include "normals/normal_map.h"
 
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "normals/circle_fit.h"
@@ -71,15 +70,7 @@ PixelGeometry NormalMapGeometry(const cv::Mat& normals, const cv::Mat& mask, con
 }
 
 cv::Mat ReadNormalMap(const std::string& path) {
-  const std::string ext = LowerExtension(path);
-  cv::Mat rgb;
-  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") {
-    rgb = ReadHdrImage(path);
-  } else {
-    const cv::Mat bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
-    if (bgr.empty()) throw FileError(path, "cannot decode normal map");
-    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  }
+  const cv::Mat rgb = ReadImageRgb(path, "normal map");
   try {
     return DecodeNormalMap(rgb);
   } catch (const Error& e) {

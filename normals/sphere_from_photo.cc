@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "util/check.h"
@@ -11,13 +10,8 @@
 namespace brdfshot {
 
 cv::Mat ReadPhotoForDetection(const std::string& path) {
-  const std::string ext = LowerExtension(path);
-  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") return ReadHdrImage(path);
-  const cv::Mat bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
-  if (bgr.empty()) throw FileError(path, "cannot decode image");
-  cv::Mat rgb;
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  rgb.convertTo(rgb, CV_32FC3);
+  cv::Mat rgb = ReadImageRgb(path);
+  rgb.convertTo(rgb, CV_32FC3);  // HDR files are float already: a no-op there
   return rgb;
 }
 

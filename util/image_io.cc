@@ -28,6 +28,16 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
+cv::Mat ReadImageRgb(const std::string& path, const std::string& what) {
+  const std::string ext = LowerExtension(path);
+  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") return ReadHdrImage(path);
+  const cv::Mat bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
+  if (bgr.empty()) throw FileError(path, "cannot decode " + what);
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return rgb;
+}
+
 namespace {
 
 // The data window's size, or a FileError when no real image has it: any

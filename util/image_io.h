@@ -13,6 +13,11 @@ namespace brdfshot {
 // NaN/Inf pixel (a probe with NaN would silently poison every basis image).
 cv::Mat ReadHdrImage(const std::string& path);
 
+// An RGB image of any kind the stages take: HDR files (EXR/HDR/PFM) as float
+// radiance, other images (8/16-bit PNG, TIFF, JPEG) at their own depth.
+// FileError "<path>: cannot decode <what>" when the decoder fails.
+cv::Mat ReadImageRgb(const std::string& path, const std::string& what = "image");
+
 // ".exr" of "a/B.EXR": the extension, lower-cased, with its dot ("" when none).
 std::string LowerExtension(const std::string& path);
 
