@@ -93,10 +93,12 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
   // zero. Tables are non-negative, so adding a multiple of the all-ones
   // weights raises every bin: the smallest multiple that lifts them all is
   // of rounding size and changes the fit by as little.
-  const Eigen::VectorXd lift = A.rowwise().sum();
   double t = 0;
   for (Eigen::Index i = 0; i < values.size(); ++i)
-    if (values[i] < 0 && lift[i] > 0) t = std::max(t, -values[i] / lift[i]);
+    if (values[i] < 0) {
+      const double lift = A.row(i).sum();  // only where a bin is below zero: most fits have none
+      if (lift > 0) t = std::max(t, -values[i] / lift);
+    }
   if (t > 0 && t * std::sqrt(static_cast<double>(k)) <= 1e-6 * std::max(w0.norm(), 1e-300)) s.w.array() += 2 * t;
   return s;
 }
