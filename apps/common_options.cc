@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "calib/calibrate.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -107,7 +108,7 @@ double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo, const s
     throw Error("--" + prefix + "focal-px must be a focal length in pixels, or 0 for orthographic");
   if (!(focal_35mm >= 0 && std::isfinite(focal_35mm)))
     throw Error("--" + prefix + "focal-35mm must be a focal length in mm, or 0");
-  return focal_35mm > 0 ? focal_35mm / 36.0 * std::max(photo.width, photo.height) : focal_px;
+  return focal_35mm > 0 ? FocalPxFrom35mm(focal_35mm, photo) : focal_px;
 }
 
 void MakeOutputDir(const std::string& dir) {

@@ -1,0 +1,84 @@
+#include "fit/capture_report.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "util/check.h"
+#include "util/image_io.h"
+
+namespace brdfshot {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+// A make re-run logs a stage again: its later time replaces the earlier one,
+// in the order stages were first seen; the output named by -o or --out tells
+// two runs of one command apart.
+TEST(CaptureReport, StageTimesKeepTheLastRunOfEachStage) {
+  const fs::path log = fs::temp_directory_path() / "brdfshot_report_times.tsv";
+  std::ofstream(log) << "1.5\tbrdfshot merge photo -o r/photo.exr\n"
+                     << "2.0\tbrdfshot merge probe --probe --out r/probe_hdr.exr\n"
+                     << "not a time line\n"
+                     << "0.5\tbrdfshot merge photo -o r/photo.exr\n"
+                     << "3.25\tbrdfshot fit --basis b -o r/fit\n";
+  const auto rows = StageTimes(log.string());
+  fs::remove(log);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].first, "merge → photo.exr");
+  EXPECT_EQ(rows[0].second, 0.5);
+  EXPECT_EQ(rows[1].first, "merge → probe_hdr.exr");
+  EXPECT_EQ(rows[2].first, "fit → fit");
+  EXPECT_EQ(rows[2].second, 3.25);
+}
+
+// A fit relit at half the truth's radiance is off by exactly 0.5 in relative
+// RMSE; the page says so, and the stage table sums the stages.
+TEST(CaptureReport, ThePageStatesTheRelitErrorAgainstTheTruthAndTheStageTimes) {
+  const fs::path r = fs::temp_directory_path() / "brdfshot_report_results";
+  fs::remove_all(r);
+  fs::create_directories(r / "relit");
+  cv::Mat truth(16, 16, CV_32FC3);
+  cv::randu(truth, cv::Scalar::all(0.2), cv::Scalar::all(1.0));
+  WriteExr((r / "relit" / "forest_truth.exr").string(), truth);
+  WriteExr((r / "relit" / "forest_fit.exr").string(), cv::Mat(truth * 0.5));
+  std::ofstream(r / "times.tsv") << "1.25\tbrdfshot merge photo -o x/photo.exr\n2.5\tbrdfshot fit -o x/fit\n";
+  CaptureReportOptions o;
+  o.results = r.string();
+  o.title = "test capture";
+  const CaptureReport report = WriteCaptureReport(o);
+  ASSERT_EQ(report.relit_error.size(), 1u);
+  EXPECT_EQ(report.relit_error[0].first, "forest");
+  EXPECT_NEAR(report.relit_error[0].second, 0.5, 1e-6);
+  EXPECT_EQ(report.page, (r / "report.md").string());
+  const std::string md = Slurp(report.page);
+  EXPECT_NE(md.find("# brdfshot report: test capture"), std::string::npos) << md;
+  EXPECT_NE(md.find("relative RMSE **0.5000**"), std::string::npos) << md;
+  EXPECT_NE(md.find("| **all** | **3.75** |"), std::string::npos) << md;
+  EXPECT_TRUE(fs::exists(r / "report" / "relit_forest.png"));
+  fs::remove_all(r);
+}
+
+TEST(CaptureReport, AMissingResultsFolderIsNamed) {
+  CaptureReportOptions o;
+  o.results = "/nonexistent/brdfshot-results";
+  try {
+    WriteCaptureReport(o);
+    ADD_FAILURE() << "a missing folder is refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(o.results), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace brdfshot
