@@ -84,4 +84,18 @@ BasisImages BasisImages::Parse(const std::string& bytes, const std::string& name
   return b;
 }
 
+nlohmann::json BasisImagesHeader(const LatLongProbe& probe, const PixelGeometry& geometry, const std::string& quality,
+                                 const BasisDatabase& db, const std::vector<std::string>& basis_names) {
+  return {{"format", "brdfshot-basis-images-1"},
+          {"probe_name", probe.name()},
+          {"probe_hash", probe.Hash()},
+          {"probe_size", {probe.width(), probe.height()}},
+          {"geometry_hash", geometry.Hash()},
+          {"quality", quality},
+          {"database", db.label},
+          {"database_kind", db.kind},
+          {"grid", {db.grid.n_th, db.grid.n_td, db.grid.n_pd}},
+          {"bases", basis_names}};
+}
+
 }  // namespace brdfshot

@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "calib/latlong_probe.h"
+#include "fit/database.h"
 #include "fit/nbrdf.h"
 #include "normals/sphere_geometry.h"
 
@@ -26,5 +28,12 @@ struct BasisImages {
   static BasisImages Read(const std::string& path);
   static BasisImages Parse(const std::string& bytes, const std::string& name);
 };
+
+// The header every basis-image file carries: its format, the probe (name,
+// hash, size), the geometry's hash, the quality the images were rendered at,
+// the database (label, kind, grid) and the name of every basis, in column
+// order. Writers add what else they know (the files they came from).
+nlohmann::json BasisImagesHeader(const LatLongProbe& probe, const PixelGeometry& geometry, const std::string& quality,
+                                 const BasisDatabase& db, const std::vector<std::string>& basis_names);
 
 }  // namespace brdfshot

@@ -89,17 +89,10 @@ BasisImages RenderReferenceImages(const PixelGeometry& g, const LatLongProbe& pr
     }
     if (progress) progress->Step();
   }
-  out.header = {
-      {"format", "brdfshot-basis-images-1"},
-      {"reference", true},
-      {"probe_name", probe.name()},
-      {"probe_hash", probe.Hash()},
-      {"probe_size", {probe.width(), probe.height()}},
-      {"geometry_hash", g.Hash()},
-      {"quality", "reference theta=" + std::to_string(theta) + ",phi=" + std::to_string(phi) + ",trilinear,unfiltered"},
-      {"database", db.label},
-      {"database_kind", db.kind},
-      {"bases", names}};
+  out.header = BasisImagesHeader(
+      probe, g, "reference theta=" + std::to_string(theta) + ",phi=" + std::to_string(phi) + ",trilinear,unfiltered",
+      db, names);
+  out.header["reference"] = true;
   return out;
 }
 

@@ -1,0 +1,41 @@
+// The basis stage: the basis images of one scene — every database basis
+// rendered under the probe at the scene's pixels — cached for every later fit.
+// The rendering quality is given, or chosen by measuring this scene against a
+// converged reference (fit/quality_search.h).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "fit/basis_images.h"
+#include "fit/database.h"
+#include "fit/quality_search.h"
+#include "fit/transport.h"
+
+namespace brdfshot {
+
+struct SceneBasisOptions {
+  std::string probe;         // lat-long probe file
+  std::string observations;  // observation file whose geometry to use; "" : an orthographic sphere
+  int sphere = 64;           // its diameter in pixels
+  double margin_deg = 80;    // its largest angle between normal and view
+  RenderQuality quality;
+  double error_target = 0;  // > 0: choose the quality by measuring (QualitySearchOptions::target)
+  int error_pixels = QualitySearchOptions{}.pixels;
+  DatabaseOptions database;
+  bool progress = false;  // the quality search's reference renders, on stderr
+};
+
+struct SceneBasis {
+  BasisImages images;
+  std::optional<QualityChoice> search;  // when an error target was given
+  int levels = 0;                        // θ_o levels of the transport operator
+  int bases = 0;
+  std::string probe_name, database_label;
+  double seconds_database = 0, seconds_search = 0, seconds_operator = 0, seconds_apply = 0;
+};
+
+// Errors name the file (probe, observations, database).
+SceneBasis ComputeSceneBasis(const SceneBasisOptions& options);
+
+}  // namespace brdfshot
