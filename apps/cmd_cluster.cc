@@ -37,16 +37,14 @@ int ClusterMain(int argc, char** argv) {
   // The class model needs only BᵀB, which the database cache keeps.
   const DatabaseGrams base = LoadDatabaseGrams(db.ToOptions(true));
   const double t_load = sw.Seconds();
-  const ClassModel model = BuildClassModel(base.gram, gmm);
+  ClassModel model = BuildClassModel(base.gram, gmm);
   const double t_em = sw.Seconds() - t_load;
   const int num_bases = static_cast<int>(base.gram.rows());
 
-  std::vector<std::string> names;
-  for (int i = 0; i < num_bases; ++i) names.push_back(BasisName(base.materials, i));
-  nlohmann::json j = model.ToJson(names);
-  j["database"] = base.label;
-  j["grid"] = {base.grid.n_th, base.grid.n_td, base.grid.n_pd};
-  WriteFileAtomic(out, [&](std::ostream& o) { o << j.dump(1) << "\n"; });
+  for (int i = 0; i < num_bases; ++i) model.basis_names.push_back(BasisName(base.materials, i));
+  model.database = base.label;
+  model.grid = {base.grid.n_th, base.grid.n_td, base.grid.n_pd};
+  model.Write(out);
 
   std::vector<std::string> labels(num_bases);
   for (size_t m = 0; m < base.materials.size(); ++m) labels[3 * m + 1] = base.materials[m];

@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/json_int.h"
 
@@ -183,7 +184,8 @@ Eigen::VectorXd ToVec(const nlohmann::json& j) {
 }
 }  // namespace
 
-nlohmann::json ClassModel::ToJson(const std::vector<std::string>& names) const {
+nlohmann::json ClassModel::ToJson() const {
+  BRDFSHOT_CHECK(basis_names.size() == static_cast<size_t>(coords.cols()), "a class model names every basis");
   nlohmann::json j;
   j["format"] = "brdfshot-class-model-1";
   j["dims"] = coords.rows();
@@ -192,6 +194,8 @@ nlohmann::json ClassModel::ToJson(const std::vector<std::string>& names) const {
   j["log_likelihood"] = log_likelihood;
   j["iterations"] = iterations;
   j["converged"] = converged;
+  j["database"] = database;
+  j["grid"] = grid;
   j["singular_values"] = Vec(singular_values);
   j["mix"] = Vec(mix);
   for (int k = 0; k < classes(); ++k) {
@@ -199,7 +203,7 @@ nlohmann::json ClassModel::ToJson(const std::vector<std::string>& names) const {
     j["covs"].push_back(std::vector<double>(covs[k].data(), covs[k].data() + covs[k].size()));
   }
   for (Eigen::Index i = 0; i < coords.cols(); ++i) {
-    j["bases"].push_back({{"name", names.at(i)},
+    j["bases"].push_back({{"name", basis_names[i]},
                           {"class", label[i]},
                           {"coords", Vec(coords.col(i))},
                           {"resp", Vec(resp.row(i).transpose())}});
@@ -236,7 +240,10 @@ ClassModel ClassModel::FromJson(const nlohmann::json& j, const std::string& sour
       if (c.size() != d || r.size() != K) throw Error("bad basis entry");
       m.coords.col(i) = c;
       m.resp.row(i) = r.transpose();
+      m.basis_names.push_back(bases[i].at("name"));
     }
+    m.database = j.value("database", "");
+    if (j.contains("grid")) m.grid = j.at("grid");
     return m;
   } catch (const Error& e) {
     throw FileError(source, std::string("bad class model: ") + e.what());
@@ -244,5 +251,12 @@ ClassModel ClassModel::FromJson(const nlohmann::json& j, const std::string& sour
     throw FileError(source, std::string("bad class model: ") + e.what());
   }
 }
+
+void ClassModel::Write(const std::string& path) const {
+  const std::string text = ToJson().dump(1);
+  WriteFileAtomic(path, [&](std::ostream& o) { o << text << "\n"; });
+}
+
+ClassModel ClassModel::Read(const std::string& path) { return FromJson(ReadJsonFile(path), path); }
 
 }  // namespace brdfshot

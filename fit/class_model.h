@@ -11,6 +11,8 @@
 //    class of a few collinear metals stays invertible.
 #pragma once
 
+#include <array>
+
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -47,11 +49,18 @@ struct ClassModel {
   int iterations = 0;
   bool converged = false;
   bool paper_mstep = false;
+  // What the bases are: their names in column order, and the database they
+  // came from (label, grid). A fit checks the names against its basis images.
+  std::vector<std::string> basis_names;
+  std::string database;
+  std::array<int, 3> grid{};
 
   int classes() const { return static_cast<int>(mix.size()); }
   std::vector<int> Members(int j) const;
-  nlohmann::json ToJson(const std::vector<std::string>& basis_names) const;
+  nlohmann::json ToJson() const;  // internal check: a name for every basis
   static ClassModel FromJson(const nlohmann::json& j, const std::string& source);
+  void Write(const std::string& path) const;  // atomic
+  static ClassModel Read(const std::string& path);
 };
 
 // EM on the columns of `coords` (dims × n), initialised from k-means.

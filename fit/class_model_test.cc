@@ -2,10 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/ml.hpp>
 #include <Eigen/SVD>
 #include <random>
+
+#include "util/check.h"
 
 namespace brdfshot {
 
@@ -99,12 +103,22 @@ TEST(ClassModel, PaperMStepInflatesTheMeansByN) {
 TEST(ClassModel, JsonRoundTripAndNamedErrors) {
   std::vector<int> truth;
   const Eigen::MatrixXd X = Blobs(&truth);
-  const ClassModel m = FitGmm(X, GmmOptions{});
-  std::vector<std::string> names(X.cols(), "b");
-  const ClassModel back = ClassModel::FromJson(m.ToJson(names), "x.json");
+  ClassModel m = FitGmm(X, GmmOptions{});
+  EXPECT_THROW(m.ToJson(), std::logic_error) << "a model that does not name its bases is not written";
+  for (Eigen::Index i = 0; i < X.cols(); ++i) m.basis_names.push_back("material" + std::to_string(i / 3) + "/RGB"[i % 3]);
+  m.database = "test database";
+  m.grid = {9, 9, 18};
+  const std::string path = (std::filesystem::temp_directory_path() / "brdfshot_class_model_test.json").string();
+  m.Write(path);
+  const ClassModel back = ClassModel::Read(path);
+  std::filesystem::remove(path);
   EXPECT_EQ(back.label, m.label);
+  EXPECT_EQ(back.basis_names, m.basis_names);
+  EXPECT_EQ(back.database, m.database);
+  EXPECT_EQ(back.grid, m.grid);
   EXPECT_LT((back.coords - m.coords).norm(), 1e-12);
-  nlohmann::json j = m.ToJson(names);
+  EXPECT_EQ(back.ToJson(), m.ToJson());
+  nlohmann::json j = m.ToJson();
   j["bases"][3]["class"] = 9;
   EXPECT_THROW(ClassModel::FromJson(j, "x.json"), std::runtime_error);
 }

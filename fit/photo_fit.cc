@@ -11,16 +11,16 @@
 
 namespace brdfshot {
 
-void CheckModelMatchesBases(const nlohmann::json& model_json, const std::string& model_source,
+void CheckModelMatchesBases(const ClassModel& model, const std::string& model_source,
                             const std::vector<std::string>& names) {
-  const auto& bases = model_json.at("bases");
+  const std::vector<std::string>& bases = model.basis_names;
   if (bases.size() != names.size())
     throw FileError(model_source,
                     "has " + std::to_string(bases.size()) + " bases, the basis images " + std::to_string(names.size()));
   for (size_t i = 0; i < names.size(); ++i)
-    if (bases[i].at("name") != names[i])
-      throw FileError(model_source, "basis " + std::to_string(i) + " is '" + bases[i]["name"].get<std::string>() +
-                                        "', the basis images have '" + names[i] + "'");
+    if (bases[i] != names[i])
+      throw FileError(model_source, "basis " + std::to_string(i) + " is '" + bases[i] + "', the basis images have '" +
+                                        names[i] + "'");
 }
 
 std::string ConstraintName(WeightConstraint::Kind kind) {

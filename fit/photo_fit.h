@@ -41,7 +41,7 @@ struct PhotoFit {
 
 // Checks that `model` was built for `basis`'s bases (same names, same order);
 // FileError naming `model_source` otherwise.
-void CheckModelMatchesBases(const nlohmann::json& model_json, const std::string& model_source,
+void CheckModelMatchesBases(const ClassModel& model, const std::string& model_source,
                             const std::vector<std::string>& basis_names);
 
 // y: pixels × 3 in the order of basis.geometry. `tables`: the database's

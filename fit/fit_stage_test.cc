@@ -1,0 +1,92 @@
+#include "fit/fit_stage.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "fit/class_model.h"
+#include "fit/scene_basis.h"
+#include "util/check.h"
+#include "util/image_io.h"
+
+namespace brdfshot {
+namespace {
+
+namespace fs = std::filesystem;
+
+DatabaseOptions DemoStandins() {
+  DatabaseOptions o;
+  o.kind = "standin";
+  o.data_root = std::string(BRDFSHOT_SOURCE_DIR) + "/samples/assets";
+  o.grid = MerlGrid{10, 10, 20};
+  o.use_cache = false;
+  return o;
+}
+
+// A scene whose photo is exactly one database material: basis images, class
+// model and photo on disk, as the stages before `fit` leave them.
+struct Scene {
+  fs::path dir = fs::temp_directory_path() / "brdfshot_fit_stage_test";
+  FitStageOptions o;
+  Scene() {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    cv::Mat sky(16, 32, CV_32FC3);
+    cv::randu(sky, cv::Scalar::all(0.1), cv::Scalar::all(2.0));
+    WriteExr((dir / "sky.exr").string(), sky);
+    SceneBasisOptions so;
+    so.probe = (dir / "sky.exr").string();
+    so.sphere = 24;
+    so.quality.theta_samples = 8, so.quality.phi_samples = 12;
+    so.database = DemoStandins();
+    const SceneBasis basis = ComputeSceneBasis(so);
+    basis.images.Write((dir / "basis.bsbi").string());
+    const BasisDatabase db = LoadDatabase(DemoStandins());
+    ClassModel model = BuildClassModel(db.B.cast<double>().transpose() * db.B.cast<double>(), GmmOptions{});
+    model.basis_names = basis.images.BasisNames();
+    model.Write((dir / "classes.json").string());
+    // The photo: material 5's three channel bases, each under its own light channel.
+    const PixelGeometry& g = basis.images.geometry;
+    cv::Mat photo(g.height, g.width, CV_32FC3, cv::Scalar::all(0));
+    for (size_t i = 0; i < g.size(); ++i)
+      for (int c = 0; c < 3; ++c) photo.at<cv::Vec3f>(g.y[i], g.x[i])[c] = basis.images.Y[c](i, 3 * 5 + c);
+    WriteExr((dir / "photo.exr").string(), photo);
+    o.basis = (dir / "basis.bsbi").string();
+    o.photo = (dir / "photo.exr").string();
+    o.classes = (dir / "classes.json").string();
+    o.out = (dir / "fit").string();
+    o.database = DemoStandins();
+  }
+  ~Scene() { fs::remove_all(dir); }
+};
+
+}  // namespace
+
+// A photo that is exactly a database material is reproduced: the residual
+// vanishes, and fit.json and brdf.binary read back.
+TEST(FitStage, APhotoOfADatabaseMaterialIsReproducedAndWritten) {
+  Scene s;
+  const FitStageResult r = RunFitStage(s.o);
+  EXPECT_LT(r.record.relative_residual, 0.02);
+  const FitRecord back = FitRecord::Read(s.o.out + "/fit.json");
+  EXPECT_EQ(back.chosen_class, r.record.chosen_class);
+  EXPECT_EQ(MerlBrdf::Read(s.o.out + "/brdf.binary").grid().size(), MerlGrid({10, 10, 20}).size());
+  EXPECT_TRUE(fs::exists(s.o.out + "/photo_vs_fit.png"));
+}
+
+// A class model of other bases is refused before anything is written.
+TEST(FitStage, AClassModelOfOtherBasesIsRefusedAndNothingIsWritten) {
+  Scene s;
+  ClassModel m = ClassModel::Read(s.o.classes);
+  m.basis_names[4] = "other/G";
+  m.Write(s.o.classes);
+  try {
+    RunFitStage(s.o);
+    ADD_FAILURE() << "a model of other bases is refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(s.o.classes + ": basis 4 is 'other/G'"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(s.o.out));
+}
+
+}  // namespace brdfshot
