@@ -13,7 +13,7 @@
 #include "apps/common_options.h"
 #include "fit/basis_reference.h"
 #include "fit/loo_eval.h"
-#include "fit/plots.h"
+#include "util/plots.h"
 #include "fit/transport.h"
 #include "util/atomic_file.h"
 #include "util/check.h"

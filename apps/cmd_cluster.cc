@@ -5,7 +5,7 @@
 #include "apps/command.h"
 #include "apps/common_options.h"
 #include "fit/class_model.h"
-#include "fit/plots.h"
+#include "util/plots.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_io.h"

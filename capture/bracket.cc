@@ -10,6 +10,8 @@
 #include "capture/exposure.h"
 #include "capture/orientation.h"
 #include "capture/raw.h"
+#include "capture/response_plot.h"
+#include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_io.h"
 #include "util/progress.h"
@@ -166,6 +168,30 @@ MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt) {
   s.clip_reach = clip_reach;
   out.frames = std::move(b.frames);
   return out;
+}
+
+MergeSidecar WriteMergeOutputs(const MergedBracket& m, const MergeOutputs& out) {
+  double max_radiance = 0;
+  cv::minMaxLoc(m.merge.radiance.reshape(1), nullptr, &max_radiance);
+  if (out.half && max_radiance > 65504)
+    throw Error("--half: the merged radiance reaches " + std::to_string(max_radiance) +
+                ", beyond half float's 65504; drop --half or rescale the times");
+  if (!out.response_json.empty())
+    WriteFileAtomic(out.response_json, [&](std::ostream& o) { o << m.response.ToJson().dump(1) << "\n"; });
+  WriteExr(out.image, m.merge.radiance, out.half ? ExrPixel::kHalf : ExrPixel::kFloat);
+  const bool plotted = !out.response_plot.empty() && m.frames[0].depth() == CV_8U;
+  if (plotted) WritePng(out.response_plot, ResponsePlot(m.response, m.frames));
+  WriteFileAtomicByName(out.mask, [&](const std::string& tmp) {
+    if (!cv::imwrite(tmp, m.merge.mask)) throw FileError(tmp, "cannot write mask");
+  });
+  MergeSidecar side = m.sidecar;
+  side.output = out.image;
+  side.mask = out.mask;
+  side.half = out.half;
+  side.response_plot = plotted ? out.response_plot : "";
+  side.command = out.command;
+  side.Write(out.sidecar);
+  return side;
 }
 
 }  // namespace brdfshot

@@ -72,4 +72,19 @@ struct MergedBracket {
 // for a single 8-bit frame without a response, or a bracket that measured nothing.
 MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt);
 
+// Where a merge goes: the linear EXR, the mask of unreliable pixels (PNG), the
+// sidecar, and optionally the response curve (JSON) and its plot (8-bit
+// brackets only).
+struct MergeOutputs {
+  std::string image, mask, sidecar;
+  std::string response_json;  // "" : not written
+  std::string response_plot;  // "" : not drawn
+  bool half = false;          // half-float EXR
+  std::string command;        // recorded in the sidecar
+};
+
+// Writes every output atomically and returns the sidecar written. Error
+// (before anything is written) when --half cannot hold the radiance.
+MergeSidecar WriteMergeOutputs(const MergedBracket& m, const MergeOutputs& out);
+
 }  // namespace brdfshot

@@ -7,7 +7,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/clipping.h"
+#include "capture/merge_sidecar.h"
+#include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/image_io.h"
 
 namespace brdfshot {
 namespace {
@@ -73,6 +76,45 @@ TEST(Bracket, ReadsFramesAndTimesAndMergesToTheSceneUpToScale) {
   EXPECT_NEAR(right[1] / left[1], want, 0.1 * want);
   EXPECT_EQ(m.sidecar.frames.size(), 3u);
   EXPECT_EQ(m.sidecar.clip_reach, -1);
+}
+
+// The outputs read back as written: the EXR is the merged radiance, the
+// sidecar names the outputs and the frames, the mask is the merge's. A half
+// float that cannot hold the radiance is refused before anything is written.
+TEST(Bracket, OutputsReadBackAndHalfFloatOverflowIsRefusedFirst) {
+  Folder d("brdfshot_bracket_outputs");
+  for (double t : {0.25, 0.5, 1.0}) d.Add(Shot(t), t);
+  BracketReadOptions opt;
+  opt.times_path = d.TimesPath();
+  MergedBracket m = MergeReadBracket(ReadBracket(ExpandBracketInputs({d.dir.string()}), opt), BracketMergeOptions{});
+  MergeOutputs out;
+  out.image = (d.dir / "merged.exr").string();
+  out.mask = (d.dir / "merged_mask.png").string();
+  out.sidecar = (d.dir / "merged.json").string();
+  out.response_json = (d.dir / "response.json").string();
+  out.response_plot = (d.dir / "response.png").string();
+  out.command = "brdfshot merge test";
+  WriteMergeOutputs(m, out);
+  EXPECT_EQ(cv::norm(ReadHdrImage(out.image), m.merge.radiance, cv::NORM_INF), 0);
+  EXPECT_EQ(cv::norm(cv::imread(out.mask, cv::IMREAD_GRAYSCALE), m.merge.mask, cv::NORM_INF), 0);
+  const MergeSidecar side = MergeSidecar::Read(out.sidecar);
+  EXPECT_EQ(side.output, out.image);
+  EXPECT_EQ(side.mask, out.mask);
+  EXPECT_EQ(side.response_plot, out.response_plot);
+  EXPECT_EQ(side.command, out.command);
+  EXPECT_EQ(side.frames.size(), 3u);
+  EXPECT_TRUE(fs::exists(out.response_plot));
+  EXPECT_EQ(ResponseCurve::FromJson(ReadJsonFile(out.response_json), out.response_json).ToJson(), m.response.ToJson());
+
+  m.merge.radiance.at<cv::Vec3f>(0, 0)[0] = 70000;
+  MergeOutputs half = out;
+  half.half = true;
+  half.image = (d.dir / "half.exr").string();
+  half.sidecar = (d.dir / "half.json").string();
+  EXPECT_NE(Message([&] { WriteMergeOutputs(m, half); }).find("--half: the merged radiance reaches 70000"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(half.image));
+  EXPECT_FALSE(fs::exists(half.sidecar));
 }
 
 TEST(Bracket, RefusalsNameTheFrame) {

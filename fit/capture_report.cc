@@ -12,7 +12,7 @@
 #include "calib/calibration.h"
 #include "capture/merge_sidecar.h"
 #include "fit/photo_fit.h"
-#include "fit/plots.h"
+#include "util/plots.h"
 #include "fit/synthetic_capture.h"
 #include "normals/sphere_view.h"
 #include "util/atomic_file.h"

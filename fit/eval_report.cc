@@ -6,7 +6,7 @@
 #include <map>
 #include <sstream>
 
-#include "fit/plots.h"
+#include "util/plots.h"
 #include "util/atomic_file.h"
 #include "util/image_io.h"
 

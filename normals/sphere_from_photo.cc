@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "util/check.h"
+#include "util/progress.h"
 #include "util/image_io.h"
 
 namespace brdfshot {
@@ -39,6 +40,28 @@ nlohmann::json SphereFileJson(const SphereView& v, const SphereDetection& det, c
               {"coarse", {det.coarse.cx, det.coarse.cy, det.coarse.r}},
               {"seconds", seconds}};
   return j;
+}
+
+SphereInPhoto FindSphereInPhoto(const cv::Mat& rgb, const SphereDetectOptions& options, const std::string& photo) {
+  SphereInPhoto r;
+  Stopwatch sw;
+  try {
+    r.detection = DetectSphere(rgb, options);
+  } catch (const Error& e) {
+    throw FileError(photo, e.what());
+  }
+  r.seconds = sw.Seconds();
+  if (r.detection.rim_in_shadow)
+    r.warnings.push_back(photo +
+                         ": part of the sphere's rim is in shadow; found from log-luminance edges, expect ~0.5 px "
+                         "instead of ~0.1 px (a photo lit from the camera's side measures it better)");
+  // A sphere cut by the border is still measured (the visible rim fixes the
+  // circle), but the user should know part of it is missing.
+  if (const int outside = RimOutsidePercent(r.detection.circle, rgb.size()); outside > 0)
+    r.warnings.push_back(photo + ": the sphere is cut by the image border (" + std::to_string(outside) +
+                         " % of its rim outside); the fit uses the visible rim");
+  r.view = ViewOfDetection(r.detection, rgb.size());
+  return r;
 }
 
 int RimOutsidePercent(const Circle& c, cv::Size size) {

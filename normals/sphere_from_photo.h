@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 #include "normals/sphere_detect.h"
 #include "normals/sphere_view.h"
@@ -15,6 +16,18 @@ namespace brdfshot {
 // RGB float: HDR files (EXR/HDR/PFM) as stored, 8/16-bit images as their
 // codes (detection needs edges, not radiance). FileError naming the file.
 cv::Mat ReadPhotoForDetection(const std::string& path);
+
+// A detection in the photo at `photo_path` (for messages): the sphere, its
+// view, the detector's wall time, and what the user should know about it.
+struct SphereInPhoto {
+  SphereDetection detection;
+  SphereView view;
+  double seconds = 0;
+  std::vector<std::string> warnings;  // a rim in shadow, a sphere cut by the border
+};
+
+// FileError naming the photo when no single sphere is found.
+SphereInPhoto FindSphereInPhoto(const cv::Mat& rgb, const SphereDetectOptions& options, const std::string& photo_path);
 
 // The sphere a detection found, in a photo of `size`.
 SphereView ViewOfDetection(const SphereDetection& det, cv::Size size);

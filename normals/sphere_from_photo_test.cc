@@ -4,6 +4,9 @@
 
 #include <cmath>
 
+#include "normals/synthetic_sphere.h"
+#include "util/check.h"
+
 namespace brdfshot {
 namespace {
 
@@ -57,4 +60,30 @@ TEST(ViewOfDetection, CarriesTheDetectedGeometry) {
 }
 
 }  // namespace
+}  // namespace brdfshot
+
+namespace brdfshot {
+
+// A sphere whose rim crosses the left border is measured from its visible rim
+// and flagged; one inside the frame is not; a photo without a sphere is an
+// error naming the photo.
+TEST(FindSphereInPhoto, MeasuresASphereCutByTheBorderAndSaysSo) {
+  SyntheticSphereScene scene;
+  scene.circle = {100, 240, 150};
+  const SphereInPhoto cut = FindSphereInPhoto(RenderSyntheticSphere(scene), SphereDetectOptions{}, "cut.exr");
+  EXPECT_NEAR(cut.view.circle.cx, 100, 1.0);
+  EXPECT_NEAR(cut.view.circle.r, 150, 1.0);
+  ASSERT_EQ(cut.warnings.size(), 1u);
+  EXPECT_NE(cut.warnings[0].find("cut.exr: the sphere is cut by the image border"), std::string::npos)
+      << cut.warnings[0];
+  scene.circle = {320, 240, 150};
+  EXPECT_TRUE(FindSphereInPhoto(RenderSyntheticSphere(scene), SphereDetectOptions{}, "whole.exr").warnings.empty());
+  try {
+    FindSphereInPhoto(cv::Mat(120, 160, CV_32FC3, cv::Scalar::all(0.5)), SphereDetectOptions{}, "grey.exr");
+    ADD_FAILURE() << "a flat grey photo has no sphere";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("grey.exr: ", 0), 0u) << e.what();
+  }
+}
+
 }  // namespace brdfshot

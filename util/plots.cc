@@ -1,4 +1,4 @@
-#include "fit/plots.h"
+#include "util/plots.h"
 
 #include <Eigen/SVD>
 #include <algorithm>
