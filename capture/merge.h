@@ -67,7 +67,8 @@ MergeResult MergeBracket(const std::vector<cv::Mat>& frames, const std::vector<d
 
 namespace brdfshot {
 
-// The response the merge uses by default: Debevec & Malik's solution, then
+// The response the merge uses by default (here, not in response.h, because its
+// refinement is a merge): Debevec & Malik's solution, then
 // `iterations` of Robertson's fixed point on a grid of ~`pixels` pixels —
 // merge with the current curve, then set each code's linear value to the mean
 // of E·t over every frame sample showing that code. Debevec alone is biased

@@ -103,13 +103,6 @@ void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& met
   for (size_t i = 0; i < methods.size(); ++i) rows[i].negative_bins = negative[i];
 }
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 namespace {
 std::vector<double> Ranks(const std::vector<double>& v) {
   std::vector<size_t> order(v.size());

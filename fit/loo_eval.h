@@ -24,6 +24,7 @@
 #include "fit/class_model.h"
 #include "fit/lambda_choice.h"
 #include "fit/solver.h"
+#include "util/stats.h"
 
 namespace brdfshot {
 
@@ -70,9 +71,6 @@ struct LooOptions {
   WeightConstraint::Kind constraint = WeightConstraint::Kind::kBins;
   bool progress = false;
 };
-
-// Median (mean of the two middle values for an even count; 0 when empty).
-double Median(std::vector<double> v);
 
 struct LooRow {
   std::string material, probe, method;
