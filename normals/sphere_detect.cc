@@ -1,6 +1,7 @@
 #include "normals/sphere_detect.h"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
@@ -382,7 +383,18 @@ bool ShadedLikeASphere(const cv::Mat& lin, const Circle& c) {
 }
 
 // One detection with the given edge picks (DetectSphere runs it once or twice).
-SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOptions& o) {
+// One pass of the detector with one edge rule: the sphere, or why there is
+// none. The fallbacks below try another rule on `no_sphere`; an ambiguous
+// photo (two spheres) is final whatever the rule.
+struct DetectionAttempt {
+  std::optional<SphereDetection> sphere;
+  std::string no_sphere;  // why none was found ("" when found or ambiguous)
+  std::string ambiguous;  // "two spheres found ..." ("" otherwise)
+};
+
+DetectionAttempt NoSphere(std::string why) { return {std::nullopt, std::move(why), ""}; }
+
+DetectionAttempt DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOptions& o) {
   if (rgb_in.channels() != 3) throw Error("sphere detection wants an RGB image");
   cv::Mat lin;
   if (rgb_in.depth() == CV_32F) {
@@ -406,9 +418,9 @@ SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOption
                  ranked.end());
   }
   if (ranked.empty())
-    throw NoSphereFound("no sphere found (" + std::to_string(cands.size()) + " circle candidates" +
-                        (picked ? ", none around the given point" : "") + ", best rim support " +
-                        std::to_string(static_cast<int>(100 * best_support)) + " %, need 50 %)");
+    return NoSphere("no sphere found (" + std::to_string(cands.size()) + " circle candidates" +
+                    (picked ? ", none around the given point" : "") + ", best rim support " +
+                    std::to_string(static_cast<int>(100 * best_support)) + " %, need 50 %)");
   // The sub-pixel stage on a candidate; false when its rim fails the test or
   // has too few edge points for a circle at all.
   auto refine = [&](const Circle& coarse, SphereDetection* d) {
@@ -437,11 +449,11 @@ SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOption
     }
   }
   if (!found)
-    throw NoSphereFound("no sphere found: the best circle's rim fits to " + std::to_string(best_rim.quality.rms_px) +
-                        " px rms over " + std::to_string(best_rim.quality.inliers) + " of " + std::to_string(o.rays) +
-                        " rays (need ≤ 1 px over 30 %)" +
-                        (best_rim.perspective ? "" : "; if the sphere is seen in perspective, give the focal length"));
-  if (picked) return det;
+    return NoSphere("no sphere found: the best circle's rim fits to " + std::to_string(best_rim.quality.rms_px) +
+                    " px rms over " + std::to_string(best_rim.quality.inliers) + " of " + std::to_string(o.rays) +
+                    " rays (need ≤ 1 px over 30 %)" +
+                    (best_rim.perspective ? "" : "; if the sphere is seen in perspective, give the focal length"));
+  if (picked) return {det, "", ""};
   // A second sphere beside the first (two samples in one shot, a grey ball
   // next to the sample): measuring either silently could fit the wrong
   // material, so the user must say which. A second candidate counts when it
@@ -461,16 +473,16 @@ SphereDetection DetectSphereOnce(const cv::Mat& rgb_in, const SphereDetectOption
                   "two spheres found, centred at (%.1f, %.1f) r %.1f px and (%.1f, %.1f) r %.1f px: say which to "
                   "measure with a point inside it (normals --near X,Y) or crop the photo",
                   first.cx, first.cy, first.r, other.circle.cx, other.circle.cy, other.circle.r);
-    throw Error(msg);
+    return {std::nullopt, "", msg};
   }
-  return det;
+  return {det, "", ""};
 }
 
 }  // namespace
 
 namespace {
 
-SphereDetection DetectWithLogFallback(const cv::Mat& rgb, const SphereDetectOptions& o) {
+DetectionAttempt DetectWithLogFallback(const cv::Mat& rgb, const SphereDetectOptions& o) {
   if (o.log_edges) return DetectSphereOnce(rgb, o);
   // A rim partly in attached shadow (a ball lit from the side, as in
   // photometric stereo): there the steepest linear step is the terminator
@@ -482,49 +494,40 @@ SphereDetection DetectWithLogFallback(const cv::Mat& rgb, const SphereDetectOpti
   SphereDetectOptions log_options = o;
   log_options.log_edges = true;
   auto with_log_edges = [&]() {
-    SphereDetection d = DetectSphereOnce(rgb, log_options);
-    d.rim_in_shadow = true;
-    return d;
+    DetectionAttempt a = DetectSphereOnce(rgb, log_options);
+    if (a.sphere) a.sphere->rim_in_shadow = true;
+    return a;
   };
-  SphereDetection linear;
-  try {
-    linear = DetectSphereOnce(rgb, o);
-  } catch (const NoSphereFound& first) {
-    try {
-      return with_log_edges();
-    } catch (const NoSphereFound&) {
-      throw first;
-    }
+  const DetectionAttempt linear = DetectSphereOnce(rgb, o);
+  if (!linear.ambiguous.empty()) return linear;
+  if (!linear.sphere) {
+    DetectionAttempt log = with_log_edges();
+    return log.sphere || !log.ambiguous.empty() ? log : linear;  // no sphere either way: the linear pass says why
   }
-  if (linear.quality.rms_px <= kMarginalRimRms) return linear;
-  try {
-    const SphereDetection log = with_log_edges();
-    return log.quality.rms_px < linear.quality.rms_px ? log : linear;
-  } catch (const Error&) {
-    return linear;
-  }
+  if (linear.sphere->quality.rms_px <= kMarginalRimRms) return linear;
+  const DetectionAttempt log = with_log_edges();  // only a better fit replaces the linear one
+  return log.sphere && log.sphere->quality.rms_px < linear.sphere->quality.rms_px ? log : linear;
 }
 
 }  // namespace
 
 SphereDetection DetectSphere(const cv::Mat& rgb, const SphereDetectOptions& o) {
-  try {
-    return DetectWithLogFallback(rgb, o);
-  } catch (const NoSphereFound& first) {
-    // Rims in colour: a fallback. The extra Hough views and candidates cost
-    // ~40 ms a photo, luminance finds every sphere in bench-detect's scenes,
-    // and a JPEG's colour is at half its resolution (4:2:0): profiles
-    // projected on their colour step put the default capture's rim 0.19 px
-    // inside, against 0.08 px in luminance.
-    if (o.colour_rims || rgb.channels() != 3) throw;
+  if (rgb.channels() != 3) throw Error("sphere detection wants an RGB image");
+  DetectionAttempt a = DetectWithLogFallback(rgb, o);
+  // Rims in colour: a fallback. The extra Hough views and candidates cost
+  // ~40 ms a photo, luminance finds every sphere in bench-detect's scenes,
+  // and a JPEG's colour is at half its resolution (4:2:0): profiles
+  // projected on their colour step put the default capture's rim 0.19 px
+  // inside, against 0.08 px in luminance.
+  if (!a.sphere && a.ambiguous.empty() && !o.colour_rims) {
     SphereDetectOptions colour = o;
     colour.colour_rims = true;
-    try {
-      return DetectWithLogFallback(rgb, colour);
-    } catch (const NoSphereFound&) {
-      throw first;
-    }
+    DetectionAttempt c = DetectWithLogFallback(rgb, colour);
+    if (c.sphere || !c.ambiguous.empty()) a = c;
   }
+  if (!a.ambiguous.empty()) throw Error(a.ambiguous);
+  if (!a.sphere) throw NoSphereFound(a.no_sphere);
+  return *a.sphere;
 }
 
 }  // namespace brdfshot
