@@ -28,6 +28,7 @@ int BenchMergeMain(int argc, char** argv) {
       ("full-well", po::value(&o.camera.full_well)->default_value(o.camera.full_well), "camera full well (electrons)")
       ("jpeg", po::value(&o.jpeg_quality)->default_value(o.jpeg_quality),
        "pass the 8-bit frames through JPEG at this quality (OpenCV's 4:2:0), as a camera's JPEGs; 0: lossless")
+      ("exposure-shift", po::value(&o.exposure_shift_ev)->default_value(0), "shift every exposure by this many EV (e.g. -3: shadows below the longest frame's floor, as in a night bracket)")
       ("methods", po::value(&methods_arg)->default_value(methods_arg), "methods to run (cv-robertson takes minutes at 12 MP)")
       ("out,o", po::value(&out)->default_value(out), "output folder: table (markdown, CSV)");
   // clang-format on

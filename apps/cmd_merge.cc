@@ -90,10 +90,12 @@ int MergeMain(int argc, char** argv) {
   Stopwatch sw;
   const MergedBracket m = MergeReadBracket(ReadBracket(ExpandBracketInputs(args.inputs), args.ReadOptions()), merge);
   const MergeSidecar side = WriteMergeOutputs(m, outputs);
-  std::printf("merged %zu frames (%dx%d, %s) in %.2f s: %.2f %% of pixels unreliable\nwrote %s, %s, %s\n",
-              m.frames.size(), m.frames[0].cols, m.frames[0].rows, side.raw ? "RAW" : m.response.kind.c_str(),
-              sw.Seconds(), 100 * m.merge.unreliable_fraction, outputs.image.c_str(), outputs.mask.c_str(),
-              outputs.sidecar.c_str());
+  std::printf(
+      "merged %zu frames (%dx%d, %s) in %.2f s: %.2f %% of pixels unreliable, %.2f %% too noisy for their own "
+      "colour (taken from their neighbours)\nwrote %s, %s, %s\n",
+      m.frames.size(), m.frames[0].cols, m.frames[0].rows, side.raw ? "RAW" : m.response.kind.c_str(), sw.Seconds(),
+      100 * m.merge.unreliable_fraction, 100 * m.merge.chroma_pooled_fraction, outputs.image.c_str(),
+      outputs.mask.c_str(), outputs.sidecar.c_str());
   return 0;
 }
 

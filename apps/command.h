@@ -44,6 +44,7 @@ int FitMain(int argc, char** argv);
 int CompareMain(int argc, char** argv);
 int BenchBasisMain(int argc, char** argv);
 int MergeMain(int argc, char** argv);
+int MergeCheckMain(int argc, char** argv);
 int NormalsMain(int argc, char** argv);
 int CalibMain(int argc, char** argv);
 int RemapMain(int argc, char** argv);

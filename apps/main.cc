@@ -22,6 +22,8 @@ const std::vector<Command>& Commands() {
        "a synthetic capture folder: bracketed JPEGs of a known material on a sphere, the probe's bracket, the truth",
        SynthCaptureMain},
       {"merge", "bracketed frames (LDR + EXIF/times, or RAW) to linear HDR EXR + mask + sidecar", MergeMain},
+      {"merge-check", "how good a merge of a real bracket is: each frame predicted from the others, beside OpenCV",
+       MergeCheckMain},
       {"calib", "light probe to lat-long (lat-long, angular map, mirror ball), rotation and scale to the camera",
        CalibMain},
       {"normals", "find the sphere in a photo to sub-pixel accuracy: sphere file + overlay", NormalsMain},

@@ -39,6 +39,11 @@ struct MergeOptions {
   // with two channels clipped — kJpegClipReach for JPEG light probes
   // (clipping.h: JPEG lowers the third); < 0: each channel on its own.
   int clip_reach = -1;
+  // kNoise: where some channel's estimate is noisier than 30 % (deep shadows
+  // of a high-ISO bracket), the pixel keeps its brightness and takes its
+  // colour from its noisy neighbours (merge.cc, PoolNoisyChroma): no chroma
+  // speckle. Off: every channel as merged.
+  bool pool_noisy_chroma = true;
 };
 
 // The noise model of a bracket, from the frames themselves: where two frames
@@ -54,6 +59,7 @@ struct MergeResult {
   cv::Mat radiance;  // CV_32FC3, RGB
   cv::Mat mask;      // CV_8U, 255 where no frame measured some channel well
   double unreliable_fraction = 0;
+  double chroma_pooled_fraction = 0;  // pixels whose colour came from their neighbours (pool_noisy_chroma)
 };
 
 // `frames`: RGB, all CV_8UC3 or all CV_16UC3, same size; `times` relative

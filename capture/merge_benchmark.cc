@@ -13,6 +13,7 @@
 
 #include "capture/clipping.h"
 #include "capture/merge.h"
+#include "capture/merge_quality.h"
 #include "capture/response.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
@@ -68,6 +69,27 @@ MergeErrorStats CompareToTruth(const cv::Mat& merged, const cv::Mat& truth, cons
       }
   for (int c = 0; c < 3; ++c)
     if (power_truth[c] > 0) s.power = std::max(s.power, std::abs(power_merged[c] / power_truth[c] - 1));
+  std::vector<std::pair<double, double>> chroma;  // (truth luminance, distance)
+  for (int y = 0; y < truth.rows; ++y)
+    for (int x = 0; x < truth.cols; ++x) {
+      const cv::Vec3b ok = measurable.at<cv::Vec3b>(y, x);
+      if (!ok[0] || !ok[1] || !ok[2]) continue;
+      const cv::Vec3f m = merged.at<cv::Vec3f>(y, x), t = truth.at<cv::Vec3f>(y, x);
+      const double ms = scale[0] * m[0] + scale[1] * m[1] + scale[2] * m[2], ts = t[0] + t[1] + t[2];
+      if (!(ms > 0) || !std::isfinite(ms) || !(ts > 0)) continue;
+      const double d = std::hypot(scale[0] * m[0] / ms - t[0] / ts, scale[1] * m[1] / ms - t[1] / ts);
+      chroma.push_back({0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2], d});
+    }
+  if (!chroma.empty()) {
+    std::sort(chroma.begin(), chroma.end());
+    std::vector<double> all, dark;
+    for (size_t i = 0; i < chroma.size(); ++i) {
+      all.push_back(chroma[i].second);
+      if (i < (chroma.size() + 4) / 5) dark.push_back(chroma[i].second);
+    }
+    s.chroma = Median(all);
+    s.shadow_chroma = Median(dark);
+  }
   s.bad_fraction = n ? double(bad) / n : 0;
   if (rel.empty()) return s;
   double sum = 0;
@@ -166,6 +188,13 @@ std::vector<MergeMethod> MergeMethods(const CameraModel& cam, bool jpeg) {
          o.clip_reach = -1;
          return MergeBracket(f, t, RecoverResponse(f, t), o).radiance;
        }},
+      {"ours-nopool", "brdfshot, every channel as merged (no colour pooling in noisy shadows)", false,
+       [reach](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
+         MergeOptions o;
+         o.clip_reach = reach;
+         o.pool_noisy_chroma = false;
+         return MergeBracket(f, t, RecoverResponse(f, t, 3, 200000, reach), o).radiance;
+       }},
       {"ours-hat", "brdfshot, hat x t weights", false, ours(MergeWeights::kHat)},
       {"ours-flat", "brdfshot, flat-top x t weights", false, ours(MergeWeights::kFlat)},
       {"cv-debevec", "OpenCV CalibrateDebevec + MergeDebevec", false,
@@ -191,15 +220,16 @@ MergeBenchmarkTables RunMergeBenchmark(const MergeBenchmarkOptions& o) {
   std::map<std::string, std::vector<double>> times_s;
   std::map<std::string, std::vector<MergeErrorStats>> errors;
   std::ostringstream md, csv;
-  md << "| scene | method | median rel. error | 95th pct | mean | power | unusable | time s "
-        "|\n|---|---|---|---|---|---|---|---|\n";
-  csv << "scene,method,median,p95,mean,power,unusable,seconds\n";
+  md << "| scene | method | median rel. error | 95th pct | mean | power | unusable | chroma | shadow chroma | "
+        "shadow speckle | time s |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  csv << "scene,method,median,p95,mean,power,unusable,chroma,shadow_chroma,speckle,seconds\n";
   char buf[512];
   for (const std::string& path : o.scenes) {
     const std::string scene = std::filesystem::path(path).stem().string();
     cv::Mat truth;
     cv::resize(ReadHdrImage(path), truth, o.size, 0, 0, cv::INTER_LINEAR);
-    const std::vector<double> t = BracketTimes(truth, o.frames, o.stops);
+    std::vector<double> t = BracketTimes(truth, o.frames, o.stops);
+    for (double& ti : t) ti *= std::exp2(o.exposure_shift_ev);
     std::map<bool, std::vector<cv::Mat>> brackets;
     CameraModel ldr = o.camera, raw = o.camera;
     ldr.raw_bits = 0;
@@ -216,9 +246,14 @@ MergeBenchmarkTables RunMergeBenchmark(const MergeBenchmarkOptions& o) {
       }
     brackets[true] = SimulateBracket(truth, t, raw);
     const cv::Mat measurable = MeasurableMask(truth, t, o.camera);
+    // The scene's own hue changes in its shadows, as the speckle measure sees them: the floor.
+    const double scene_speckle = ChromaSpeckle(truth);
+    std::snprintf(buf, sizeof buf, "| %s | (the scene itself) | | | | | | | | %.4f | |\n", scene.c_str(),
+                  scene_speckle);
+    md << buf;
     if (o.progress)
-      std::printf("%s: %dx%d, %d frames %.0f EV apart, simulated in %.1f s\n", scene.c_str(), o.size.width,
-                  o.size.height, o.frames, o.stops, sim.Seconds());
+      std::printf("%s: %dx%d, %d frames %.0f EV apart, simulated in %.1f s; the scene's own shadow speckle %.4f\n",
+                  scene.c_str(), o.size.width, o.size.height, o.frames, o.stops, sim.Seconds(), scene_speckle);
     for (const MergeMethod& m : methods) {
       Stopwatch sw;
       const cv::Mat hdr = m.merge(brackets[m.raw], t);
@@ -227,33 +262,38 @@ MergeBenchmarkTables RunMergeBenchmark(const MergeBenchmarkOptions& o) {
         if (o.progress) std::printf("  %-58s not available (not installed)\n", m.name.c_str());
         continue;
       }
-      const MergeErrorStats e = CompareToTruth(hdr, truth, measurable);
+      MergeErrorStats e = CompareToTruth(hdr, truth, measurable);
+      e.speckle = ChromaSpeckle(hdr);
       times_s[m.name].push_back(secs);
       errors[m.name].push_back(e);
-      std::snprintf(buf, sizeof buf, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f |\n", scene.c_str(),
-                    m.name.c_str(), e.median, e.p95, e.mean, e.power, e.bad_fraction, secs);
+      std::snprintf(buf, sizeof buf, "| %s | %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f |\n",
+                    scene.c_str(), m.name.c_str(), e.median, e.p95, e.mean, e.power, e.bad_fraction, e.chroma,
+                    e.shadow_chroma, e.speckle, secs);
       md << buf;
       if (o.progress) {
-        std::printf("  %-58s median %.4f  p95 %.4f  power %.4f  %.3f s\n", m.name.c_str(), e.median, e.p95, e.power,
-                    secs);
+        std::printf("  %-58s median %.4f  p95 %.4f  power %.4f  shadow chroma %.4f  speckle %.4f  %.3f s\n",
+                    m.name.c_str(), e.median, e.p95, e.power, e.shadow_chroma, e.speckle, secs);
         std::fflush(stdout);
       }
-      std::snprintf(buf, sizeof buf, "%s,\"%s\",%.5f,%.5f,%.5f,%.5f,%.5f,%.4f\n", scene.c_str(), m.name.c_str(),
-                    e.median, e.p95, e.mean, e.power, e.bad_fraction, secs);
+      std::snprintf(buf, sizeof buf, "%s,\"%s\",%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f\n", scene.c_str(),
+                    m.name.c_str(), e.median, e.p95, e.mean, e.power, e.bad_fraction, e.chroma, e.shadow_chroma,
+                    e.speckle, secs);
       csv << buf;
     }
   }
-  md << "\n| method | median of medians | median of 95th pct | worst power | median time s | time / OpenCV Debevec "
-        "|\n|---|---|---|---|---|---|\n";
+  md << "\n| method | median of medians | median of 95th pct | worst power | median shadow chroma | worst shadow "
+        "speckle | median time s | time / OpenCV Debevec |\n|---|---|---|---|---|---|---|---|\n";
   const double t_cv = Median(times_s["OpenCV CalibrateDebevec + MergeDebevec"]);  // 0 if not run
   for (const MergeMethod& m : methods) {
-    std::vector<double> med, p95;
-    double power = 0;
-    for (const MergeErrorStats& e : errors[m.name])
-      med.push_back(e.median), p95.push_back(e.p95), power = std::max(power, e.power);
+    std::vector<double> med, p95, shadow;
+    double power = 0, speckle = 0;
+    for (const MergeErrorStats& e : errors[m.name]) {
+      med.push_back(e.median), p95.push_back(e.p95), shadow.push_back(e.shadow_chroma);
+      power = std::max(power, e.power), speckle = std::max(speckle, e.speckle);
+    }
     const double tm = Median(times_s[m.name]);
-    std::snprintf(buf, sizeof buf, "| %s | %.4f | %.4f | %.4f | %.3f | %.2f |\n", m.name.c_str(), Median(med),
-                  Median(p95), power, tm, t_cv > 0 ? tm / t_cv : 0);
+    std::snprintf(buf, sizeof buf, "| %s | %.4f | %.4f | %.4f | %.4f | %.4f | %.3f | %.2f |\n", m.name.c_str(),
+                  Median(med), Median(p95), power, Median(shadow), speckle, tm, t_cv > 0 ? tm / t_cv : 0);
     md << buf;
   }
   return {md.str(), csv.str()};

@@ -23,6 +23,12 @@ struct MergeErrorStats {
   // pixels, after the same scale, against the truth's (the worst channel). A
   // few wrong pixels (a sun) leave the median alone and move this.
   double power = 0;
+  // Colour, apart from brightness: the median distance between the rg
+  // chromaticities of the scaled merge and the truth, over pixels measurable
+  // in all three channels, and over the darkest 20 % of them (by the truth's
+  // luminance), where every frame is noisy.
+  double chroma = 0, shadow_chroma = 0;
+  double speckle = 0;  // ChromaSpeckle of the merge (capture/merge_quality.h)
 };
 
 // Per sample (CV_8UC3, 1/0): some frame measured the truth — not clipped in
@@ -30,7 +36,7 @@ struct MergeErrorStats {
 cv::Mat MeasurableMask(const cv::Mat& truth, const std::vector<double>& times, const CameraModel& camera);
 
 // `merged`, `truth`: CV_32FC3. Each channel is scaled by the median of
-// truth / merged over its measurable samples first.
+// truth / merged over its measurable samples first. `speckle` is left 0.
 MergeErrorStats CompareToTruth(const cv::Mat& merged, const cv::Mat& truth, const cv::Mat& measurable);
 
 struct MergeMethod {
@@ -52,6 +58,10 @@ struct MergeBenchmarkOptions {
   double stops = 1;
   CameraModel camera;
   int jpeg_quality = 0;              // > 0: 8-bit frames through JPEG at this quality
+  // Every exposure shifted by this many EV from the bracket that covers the
+  // scene: < 0 leaves the shadows below the longest frame's noise floor, as
+  // in a night bracket exposed for its lights.
+  double exposure_shift_ev = 0;
   std::vector<std::string> methods;  // keys of MergeMethods
   bool progress = false;             // a line per scene and method on stdout
 };
