@@ -24,6 +24,7 @@ struct MergeArgs {
   std::vector<std::string> inputs;
   std::string times, response_in, wb, out = "merged.exr";
   bool align = false, probe = false;
+  std::string align_model = "homography";
   MergeOutputs outputs;
 
   void Add(po::options_description& desc) {
@@ -33,7 +34,8 @@ struct MergeArgs {
         ("times", po::value(&times), "exposure times file, one per frame in input order (overrides EXIF)")
         ("response", po::value(&response_in), "reuse a response curve (JSON) instead of recovering one")
         ("save-response", po::value(&outputs.response_json), "write the recovered response curve (JSON)")
-        ("align", po::bool_switch(&align), "align hand-held frames by translation (median threshold bitmaps)")
+        ("align", po::bool_switch(&align), "align hand-held frames onto the middle one (rotation, shift and perspective; capture/align.h)")
+        ("align-model", po::value(&align_model)->default_value(align_model), "with --align: homography, or translation (median threshold bitmaps only)")
         ("wb", po::value(&wb), "RAW white balance R,G,B multipliers (default: the camera's)")
         ("mask", po::value(&outputs.mask), "mask PNG of unreliable pixels (default: <out>_mask.png)")
         ("sidecar", po::value(&outputs.sidecar), "JSON sidecar (default: <out>.json)")
@@ -82,6 +84,9 @@ int MergeMain(int argc, char** argv) {
   const MergeOutputs outputs = args.Outputs(CommandLine(argc, argv));
   BracketMergeOptions merge;
   merge.align = args.align;
+  if (args.align_model != "homography" && args.align_model != "translation")
+    throw Error("unknown --align-model '" + args.align_model + "': homography or translation");
+  merge.align_model = args.align_model == "homography" ? AlignModel::kHomography : AlignModel::kTranslation;
   merge.is_probe = args.probe;
   ResponseCurve given;
   if (!args.response_in.empty())

@@ -141,8 +141,18 @@ MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt) {
                     "is a single 8-bit frame: merge needs a bracket (two or more exposures) "
                     "or --response CURVE.json to linearise it");
   if (opt.align && b.files.size() > 1) {
-    AlignedBracket a = AlignBracket(b.frames);
-    for (size_t j = 0; j < b.files.size(); ++j) b.records[j]["shift"] = {a.shifts[j].x, a.shifts[j].y};
+    AlignOptions align;
+    align.model = opt.align_model;
+    align.frame_names = b.files;
+    AlignedBracket a = AlignBracket(b.frames, b.exposure, align);
+    for (size_t j = 0; j < b.files.size(); ++j) {
+      if (align.model == AlignModel::kTranslation) {
+        b.records[j]["shift"] = {a.shifts[j].x, a.shifts[j].y};
+      } else {
+        const cv::Matx33d& W = a.warps[j];
+        b.records[j]["homography_to_reference"] = std::vector<double>(W.val, W.val + 9);
+      }
+    }
     b.frames = std::move(a.frames);
   }
   CheckBracketMeasured(b);

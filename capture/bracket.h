@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "capture/align.h"
 #include "capture/merge.h"
 #include "capture/merge_sidecar.h"
 #include "capture/response.h"
@@ -56,7 +57,8 @@ void CheckBracketMeasured(const Bracket& b);
 int ClipReachFor(const Bracket& b, bool is_probe);
 
 struct BracketMergeOptions {
-  bool align = false;                       // translation, median threshold bitmaps
+  bool align = false;                       // hand-held: frames aligned onto the middle one (capture/align.h)
+  AlignModel align_model = AlignModel::kHomography;
   bool is_probe = false;                    // ClipReachFor
   const ResponseCurve* response = nullptr;  // reuse instead of recovering
 };
