@@ -77,6 +77,10 @@ std::string FrameName(const AlignOptions& o, int j) {
   return j < static_cast<int>(o.frame_names.size()) ? o.frame_names[j] : "frame " + std::to_string(j);
 }
 
+// The share of pixels with signal in both frames below which a pair is left
+// to MTB's shift.
+constexpr double kMinSharedSignal = 0.2;
+
 // One ECC refinement of W at pyramid level `k`: false when ECC does not converge.
 bool EccAtLevel(const Pyramid& ref, const Pyramid& frame, size_t k, int iterations, cv::Matx33d* W, double* rho) {
   const double scale = ref.scales[k];
@@ -127,6 +131,16 @@ cv::Matx33d EccHomography(const Pyramid& ref, const Pyramid& frame, const std::v
   }
   bool converged = rho > -1;
   for (size_t k = 1; k < ref.levels.size() && converged; ++k) converged = EccAtLevel(ref, frame, k, 100, &W, &rho);
+  if (!converged || rho < o.min_correlation) {
+    // Two frames that share too little signal (the longest of a bracket is
+    // mostly clipped) cannot tell a homography: they keep MTB's shift, which
+    // needs no more than the median's bitmap. Only frames with signal in
+    // common that still do not match are refused.
+    cv::Mat a, b;
+    cv::inRange(ref.levels[0], 16, 240, a);
+    cv::inRange(frame.levels[0], 16, 240, b);
+    if (cv::countNonZero(a & b) < kMinSharedSignal * a.total()) return starts[0];
+  }
   if (!converged)
     throw Error(FrameName(o, frame_index) + " and " + FrameName(o, ref_index) +
                 " cannot be aligned (the correlation of their codes does not converge): not the same scene, "

@@ -10,7 +10,9 @@
 // coefficient is invariant to what affine difference remains). Frames far apart in exposure share few well-exposed
 // pixels, so each frame is aligned to its neighbour towards the middle one
 // and the warps are chained; MTB's shift starts each ECC, and ECC runs on a
-// pyramid (coarse, then at up to 2000 px) for speed at 12 MP.
+// pyramid (coarse, then at up to 2000 px) for speed at 12 MP. Two frames
+// with signal in common on less than a fifth of the image (the longest of a
+// bracket is mostly clipped) cannot tell a homography and keep MTB's shift.
 #pragma once
 
 #include <opencv2/core.hpp>

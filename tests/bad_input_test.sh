@@ -46,6 +46,8 @@ row bad-header-bsbi "huge.bsbi" "$T/fit" "$T/huge.bsbi" -- "$B" fit $DB --basis 
 printf '1/4\n1/2\n' > "$T/times.txt"
 ppm "$T/white1.ppm" 64 48 255; ppm "$T/white2.ppm" 64 48 255
 row all-saturated "white1.ppm: is saturated everywhere" "$T/m.exr" "$T/white1.ppm" -- "$B" merge "$T/white1.ppm" "$T/white2.ppm" --times "$T/times.txt" -o "$T/m.exr"
+discs "$T/scene1.ppm" 96 72 "30 30 15"; discs "$T/scene2.ppm" 96 72 "70 50 10 20 55 8"
+row align-other-scene "scene1.ppm and " "$T/m.exr" "$T/scene2.ppm" -- "$B" merge "$T/scene1.ppm" "$T/scene2.ppm" --times "$T/times.txt" --align -o "$T/m.exr"
 ppm "$T/black1.ppm" 64 48 0; ppm "$T/black2.ppm" 64 48 0
 row all-black "black2.ppm: is black everywhere" "$T/m.exr" "$T/black1.ppm" -- "$B" merge "$T/black1.ppm" "$T/black2.ppm" --times "$T/times.txt" -o "$T/m.exr"
 ppm "$T/small.ppm" 32 48 100

@@ -148,6 +148,10 @@ check bench-merge 0 "wrote" -- "$B" bench-merge --probes "$PROBE" --size 128x64 
 "$B" synth-capture --probe "$PROBE" --standin demo-red-plastic $DB --size 320x240 --radius 70 --focal-px 480 \
   --probe-shot-width 64 -o "$T/fcap" >/dev/null && "$B" merge "$T/fcap/photo" -o "$T/fp.exr" >/dev/null
 grep -q '"focal_35mm": 54.0' "$T/fp.json" && pass=$((pass+1)) || { echo "FAIL merge sidecar focal_35mm"; fail=$((fail+1)); }
+# merge-check on the same bracket: each inner frame predicted by ours and by OpenCV's merge.
+check merge-check 0 "| brdfshot | " -- "$B" merge-check "$T/fcap/photo"
+check merge-align 0 "merged" -- "$B" merge "$T/fcap/photo" --align -o "$T/fpa.exr"
+grep -q '"homography_to_reference"' "$T/fpa.json" && pass=$((pass+1)) || { echo "FAIL merge --align records the homographies"; fail=$((fail+1)); }
 # merge --probe on JPEG frames: the clipping rule (capture/clipping.h) is on,
 # recorded in the sidecar, and changes the studio's clipped lamps; without it
 # (and on the photo) the merge is per channel.
