@@ -23,7 +23,7 @@ namespace {
 struct MergeArgs {
   std::vector<std::string> inputs;
   std::string times, response_in, wb, out = "merged.exr";
-  bool align = false, probe = false;
+  bool align = false, probe = false, deghost = false;
   std::string align_model = "homography";
   MergeOutputs outputs;
 
@@ -35,6 +35,7 @@ struct MergeArgs {
         ("response", po::value(&response_in), "reuse a response curve (JSON) instead of recovering one")
         ("save-response", po::value(&outputs.response_json), "write the recovered response curve (JSON)")
         ("align", po::bool_switch(&align), "align hand-held frames onto the middle one (rotation, shift and perspective; capture/align.h)")
+        ("deghost", po::bool_switch(&deghost), "things that moved between frames (people, leaves) taken from the middle frame alone; their mask goes to <out>_ghosts.png")
         ("align-model", po::value(&align_model)->default_value(align_model), "with --align: homography, or translation (median threshold bitmaps only)")
         ("wb", po::value(&wb), "RAW white balance R,G,B multipliers (default: the camera's)")
         ("mask", po::value(&outputs.mask), "mask PNG of unreliable pixels (default: <out>_mask.png)")
@@ -67,6 +68,7 @@ struct MergeArgs {
     if (o.mask.empty()) o.mask = stem + "_mask.png";
     if (o.sidecar.empty()) o.sidecar = stem + ".json";
     if (o.response_plot.empty()) o.response_plot = stem + "_response.png";
+    o.ghosts = stem + "_ghosts.png";
     o.command = command;
     return o;
   }
@@ -88,6 +90,7 @@ int MergeMain(int argc, char** argv) {
     throw Error("unknown --align-model '" + args.align_model + "': homography or translation");
   merge.align_model = args.align_model == "homography" ? AlignModel::kHomography : AlignModel::kTranslation;
   merge.is_probe = args.probe;
+  merge.deghost = args.deghost;
   ResponseCurve given;
   if (!args.response_in.empty())
     given = ResponseCurve::FromJson(ReadJsonFile(args.response_in), args.response_in), merge.response = &given;
@@ -97,10 +100,14 @@ int MergeMain(int argc, char** argv) {
   const MergeSidecar side = WriteMergeOutputs(m, outputs);
   std::printf(
       "merged %zu frames (%dx%d, %s) in %.2f s: %.2f %% of pixels unreliable, %.2f %% too noisy for their own "
-      "colour (taken from their neighbours)\nwrote %s, %s, %s\n",
+      "colour (taken from their neighbours)",
       m.frames.size(), m.frames[0].cols, m.frames[0].rows, side.raw ? "RAW" : m.response.kind.c_str(), sw.Seconds(),
-      100 * m.merge.unreliable_fraction, 100 * m.merge.chroma_pooled_fraction, outputs.image.c_str(),
-      outputs.mask.c_str(), outputs.sidecar.c_str());
+      100 * m.merge.unreliable_fraction, 100 * m.merge.chroma_pooled_fraction);
+  if (side.deghosted)
+    std::printf(", %.2f %% moved between frames (taken from %s alone)", 100 * side.ghost_fraction,
+                side.frames[side.reference_frame].value("file", "the middle frame").c_str());
+  std::printf("\nwrote %s, %s, %s%s%s\n", outputs.image.c_str(), outputs.mask.c_str(), outputs.sidecar.c_str(),
+              side.ghosts.empty() ? "" : ", ", side.ghosts.c_str());
   return 0;
 }
 

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <numeric>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "capture/align.h"
 #include "capture/clipping.h"
 #include "capture/exposure.h"
+#include "capture/ghosts.h"
 #include "capture/orientation.h"
 #include "capture/raw.h"
 #include "capture/response_plot.h"
@@ -166,6 +168,16 @@ MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt) {
     out.response = ResponseCurve::Linear16();
   MergeOptions merge_options;
   merge_options.clip_reach = clip_reach;
+  int reference = -1;
+  if (opt.deghost && b.frames.size() > 1) {
+    std::vector<int> order(b.frames.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int p, int q) { return b.exposure[p] < b.exposure[q]; });
+    reference = order[order.size() / 2];  // the middle exposure, as the alignment's
+    merge_options.excluded = DetectGhosts(b.frames, b.exposure, out.response, reference,
+                                          EstimateNoise(b.frames, b.exposure, out.response, merge_options));
+    out.ghosts = GhostUnion(merge_options.excluded);
+  }
   out.merge = MergeBracket(b.frames, b.exposure, out.response, merge_options);
   MergeSidecar& s = out.sidecar;
   s.frames = b.records;
@@ -175,6 +187,10 @@ MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt) {
   s.raw = b.raw;
   s.aligned = opt.align;
   s.unreliable_fraction = out.merge.unreliable_fraction;
+  s.chroma_pooled_fraction = out.merge.chroma_pooled_fraction;
+  s.deghosted = reference >= 0;
+  s.reference_frame = reference;
+  s.ghost_fraction = out.ghosts.empty() ? 0 : cv::countNonZero(out.ghosts) / static_cast<double>(out.ghosts.total());
   s.clip_reach = clip_reach;
   out.frames = std::move(b.frames);
   return out;
@@ -194,11 +210,17 @@ MergeSidecar WriteMergeOutputs(const MergedBracket& m, const MergeOutputs& out) 
   WriteFileAtomicByName(out.mask, [&](const std::string& tmp) {
     if (!cv::imwrite(tmp, m.merge.mask)) throw FileError(tmp, "cannot write mask");
   });
+  const bool ghosts = !m.ghosts.empty() && !out.ghosts.empty();
+  if (ghosts)
+    WriteFileAtomicByName(out.ghosts, [&](const std::string& tmp) {
+      if (!cv::imwrite(tmp, m.ghosts)) throw FileError(tmp, "cannot write ghost mask");
+    });
   MergeSidecar side = m.sidecar;
   side.output = out.image;
   side.mask = out.mask;
   side.half = out.half;
   side.response_plot = plotted ? out.response_plot : "";
+  side.ghosts = ghosts ? out.ghosts : "";
   side.command = out.command;
   side.Write(out.sidecar);
   return side;

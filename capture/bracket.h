@@ -59,6 +59,7 @@ int ClipReachFor(const Bracket& b, bool is_probe);
 struct BracketMergeOptions {
   bool align = false;                       // hand-held: frames aligned onto the middle one (capture/align.h)
   AlignModel align_model = AlignModel::kHomography;
+  bool deghost = false;  // things that moved between frames taken from the middle frame (capture/ghosts.h)
   bool is_probe = false;                    // ClipReachFor
   const ResponseCurve* response = nullptr;  // reuse instead of recovering
 };
@@ -68,6 +69,7 @@ struct MergedBracket {
   ResponseCurve response;
   MergeSidecar sidecar;         // filled but for the output paths and the command line
   std::vector<cv::Mat> frames;  // as merged (aligned when asked)
+  cv::Mat ghosts;               // with deghost: CV_8U 255 where pixels came from the reference frame alone
 };
 
 // Align (when asked), check, recover or reuse the response, merge. FileError
@@ -79,6 +81,7 @@ MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt);
 // brackets only).
 struct MergeOutputs {
   std::string image, mask, sidecar;
+  std::string ghosts;         // the ghost mask, when the merge detected ghosts
   std::string response_json;  // "" : not written
   std::string response_plot;  // "" : not drawn
   bool half = false;          // half-float EXR

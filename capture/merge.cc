@@ -173,7 +173,14 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
   const int levels = T.levels, zlo = T.zlo, zhi = T.zhi;
   // A frame does not count where it is clipped nearby (clipping.h: JPEG
   // lowers the codes around a clipped highlight). Empty: per channel.
-  const std::vector<cv::Mat> clipped = given_clipped ? *given_clipped : ClippedNearby(frames, zhi, opt.clip_reach);
+  std::vector<cv::Mat> clipped = given_clipped ? *given_clipped : ClippedNearby(frames, zhi, opt.clip_reach);
+  if (!opt.excluded.empty()) {
+    BRDFSHOT_CHECK(opt.excluded.size() == frames.size(), "an exclusion mask per frame");
+    if (clipped.empty())
+      clipped = opt.excluded;
+    else
+      for (size_t j = 0; j < frames.size(); ++j) clipped[j] = clipped[j] | opt.excluded[j];
+  }
   const auto& lin = T.lin;
   const NoiseModel noise = opt.weights == MergeWeights::kNoise && opt.estimate_noise
                                ? EstimateNoise(frames, times, response, opt)

@@ -44,6 +44,9 @@ struct MergeOptions {
   // colour from its noisy neighbours (merge.cc, PoolNoisyChroma): no chroma
   // speckle. Off: every channel as merged.
   bool pool_noisy_chroma = true;
+  // Per frame, CV_8U nonzero where the frame does not count (ghosts,
+  // capture/ghosts.h), on top of clipping; empty: every frame counts.
+  std::vector<cv::Mat> excluded;
 };
 
 // The noise model of a bracket, from the frames themselves: where two frames

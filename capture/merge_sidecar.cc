@@ -35,9 +35,14 @@ nlohmann::json MergeSidecar::ToJson() const {
           {"raw", raw},
           {"aligned", aligned},
           {"unreliable_fraction", unreliable_fraction},
+          {"chroma_pooled_fraction", chroma_pooled_fraction},
           {"clip_reach", clip_reach},
+          {"deghosted", deghosted},
+          {"reference_frame", reference_frame},
+          {"ghost_fraction", ghost_fraction},
           {"output", output},
           {"mask", mask},
+          {"ghosts", ghosts},
           {"half", half},
           {"response_plot", response_plot},
           {"command", command}};
@@ -61,9 +66,14 @@ MergeSidecar MergeSidecar::FromJson(const nlohmann::json& j, const std::string& 
     m.aligned = j.value("aligned", false);
     m.half = j.value("half", false);
     m.unreliable_fraction = j.value("unreliable_fraction", 0.0);
+    m.chroma_pooled_fraction = j.value("chroma_pooled_fraction", 0.0);
     m.clip_reach = j.value("clip_reach", 0);
+    m.deghosted = j.value("deghosted", false);
+    m.reference_frame = j.value("reference_frame", -1);
+    m.ghost_fraction = j.value("ghost_fraction", 0.0);
     m.output = j.value("output", "");
     m.mask = j.value("mask", "");
+    m.ghosts = j.value("ghosts", "");
     m.response_plot = j.value("response_plot", "");
     m.command = j.value("command", "");
   } catch (const nlohmann::json::exception& e) {

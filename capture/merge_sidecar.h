@@ -21,8 +21,14 @@ struct MergeSidecar {
   ResponseCurve response;
   bool raw = false, aligned = false, half = false;
   double unreliable_fraction = 0;
+  double chroma_pooled_fraction = 0;  // pixels whose colour came from their neighbours (MergeOptions)
   int clip_reach = 0;
-  std::string output, mask, response_plot, command;
+  // Ghost detection (capture/ghosts.h): the reference frame's index, the share
+  // of pixels taken from it alone, and the mask of them ("" when off).
+  bool deghosted = false;
+  int reference_frame = -1;
+  double ghost_fraction = 0;
+  std::string output, mask, ghosts, response_plot, command;
 
   // RAW: the white balance every frame shares; FileError naming `source`
   // when they differ or one is not positive. (1, 1, 1) for other brackets.

@@ -152,6 +152,9 @@ grep -q '"focal_35mm": 54.0' "$T/fp.json" && pass=$((pass+1)) || { echo "FAIL me
 check merge-check 0 "| brdfshot | " -- "$B" merge-check "$T/fcap/photo"
 check merge-align 0 "merged" -- "$B" merge "$T/fcap/photo" --align -o "$T/fpa.exr"
 grep -q '"homography_to_reference"' "$T/fpa.json" && pass=$((pass+1)) || { echo "FAIL merge --align records the homographies"; fail=$((fail+1)); }
+# A static bracket has (almost) no ghosts; the mask is written and named in the sidecar.
+check merge-deghost 0 "moved between frames" -- "$B" merge "$T/fcap/photo" --deghost -o "$T/fpg.exr"
+[ -s "$T/fpg_ghosts.png" ] && grep -q '"deghosted": true' "$T/fpg.json" && pass=$((pass+1)) || { echo "FAIL merge --deghost outputs"; fail=$((fail+1)); }
 # merge --probe on JPEG frames: the clipping rule (capture/clipping.h) is on,
 # recorded in the sidecar, and changes the studio's clipped lamps; without it
 # (and on the photo) the merge is per channel.
