@@ -7,7 +7,7 @@
 namespace brdfshot {
 namespace {
 
-// A static background (a smooth ramp) and a red square that moves 60 px
+// A static background (a smooth ramp) and a red square that moves 70 px
 // between shots.
 cv::Mat SceneWithSquareAt(int x0) {
   cv::Mat e(120, 240, CV_32FC3);
