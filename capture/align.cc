@@ -136,10 +136,22 @@ cv::Matx33d EccHomography(const Pyramid& ref, const Pyramid& frame, const std::v
     // mostly clipped) cannot tell a homography: they keep MTB's shift, which
     // needs no more than the median's bitmap. Only frames with signal in
     // common that still do not match are refused.
+    // (A frame of another scene is still refused when the pixels the two
+    // share, under that shift, do not correlate.)
     cv::Mat a, b;
     cv::inRange(ref.levels[0], 16, 240, a);
     cv::inRange(frame.levels[0], 16, 240, b);
-    if (cv::countNonZero(a & b) < kMinSharedSignal * a.total()) return starts[0];
+    const cv::Mat shared = a & b;
+    const int n_shared = cv::countNonZero(shared);
+    if (n_shared < kMinSharedSignal * a.total()) {
+      const cv::Matx33d shift = Scale(ref.scales[0]) * starts[0] * Scale(1 / ref.scales[0]);
+      cv::Mat ref32, moved, moved32;
+      ref.levels[0].convertTo(ref32, CV_32F);
+      cv::warpPerspective(MatchHistogram(frame.levels[0], ref.levels[0]), moved, cv::Mat(shift), ref32.size(),
+                          cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+      moved.convertTo(moved32, CV_32F);
+      if (n_shared < 100 || cv::computeECC(ref32, moved32, shared) >= o.min_correlation) return starts[0];
+    }
   }
   if (!converged)
     throw Error(FrameName(o, frame_index) + " and " + FrameName(o, ref_index) +

@@ -12,7 +12,8 @@
 // and the warps are chained; MTB's shift starts each ECC, and ECC runs on a
 // pyramid (coarse, then at up to 2000 px) for speed at 12 MP. Two frames
 // with signal in common on less than a fifth of the image (the longest of a
-// bracket is mostly clipped) cannot tell a homography and keep MTB's shift.
+// bracket is mostly clipped) cannot tell a homography and keep MTB's shift,
+// unless the little they share does not correlate under it (then refused).
 #pragma once
 
 #include <opencv2/core.hpp>

@@ -8,6 +8,7 @@
 
 #include "capture/align.h"
 #include "capture/synthetic_bracket.h"
+#include "capture/test_scenes.h"
 
 namespace brdfshot {
 namespace {
@@ -20,29 +21,14 @@ struct Bracket12MP {
 const Bracket12MP& TheBracket() {
   static const Bracket12MP b = [] {
     const cv::Size size(4000, 3000), wide(4400, 3400);
-    cv::RNG rng(5);
-    cv::Mat log_e(wide, CV_32FC3, cv::Scalar::all(0));
-    for (double sigma : {2.0, 8.0, 32.0, 128.0}) {
-      cv::Mat octave(wide, CV_32FC3);
-      rng.fill(octave, cv::RNG::UNIFORM, -0.5, 0.5);
-      cv::GaussianBlur(octave, octave, cv::Size(0, 0), sigma);
-      cv::Scalar mean, sd;
-      cv::meanStdDev(octave.reshape(1), mean, sd);
-      log_e += octave * (0.8 / sd[0]);
-    }
-    cv::Mat e;
-    cv::exp(log_e, e);
+    const cv::Mat e = TexturedRadiance(wide, 5);
     Bracket12MP out;
     out.times = BracketTimes(e, 5, 1);
     const double f = 3600;
     const double turns[5][3] = {{0.8, -0.5, 1.2}, {-0.4, 0.3, -0.6}, {0, 0, 0}, {0.5, 0.6, 0.4}, {-1.0, -0.7, -1.5}};
     for (int j = 0; j < 5; ++j) {
-      const double a = turns[j][0] * CV_PI / 180, p = turns[j][1] * CV_PI / 180, r = turns[j][2] * CV_PI / 180;
-      const cv::Matx33d Ry(std::cos(a), 0, std::sin(a), 0, 1, 0, -std::sin(a), 0, std::cos(a));
-      const cv::Matx33d Rx(1, 0, 0, 0, std::cos(p), -std::sin(p), 0, std::sin(p), std::cos(p));
-      const cv::Matx33d Rz(std::cos(r), -std::sin(r), 0, std::sin(r), std::cos(r), 0, 0, 0, 1);
-      const cv::Matx33d K(f, 0, size.width / 2.0, 0, f, size.height / 2.0, 0, 0, 1);
-      const cv::Matx33d H = K * Rz * Rx * Ry * K.inv(), crop(1, 0, 200, 0, 1, 200, 0, 0, 1);
+      const cv::Matx33d H = TurnedCamera(turns[j][0], turns[j][1], turns[j][2], f, size),
+                        crop(1, 0, 200, 0, 1, 200, 0, 0, 1);
       cv::Mat radiance;
       cv::warpPerspective(e, radiance, cv::Mat(crop * H.inv()), size, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
                           cv::BORDER_REFLECT);

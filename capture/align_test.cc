@@ -5,39 +5,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "capture/synthetic_bracket.h"
+#include "capture/test_scenes.h"
 #include "util/check.h"
 
 namespace brdfshot {
 namespace {
-
-// Structure at every scale from 2 px to a fifth of the image, as a scene
-// has, over several decades of radiance.
-cv::Mat TexturedRadiance(int w, int h, uint64_t seed = 3) {
-  cv::RNG rng(seed);
-  cv::Mat log_e(h, w, CV_32FC3, cv::Scalar::all(0));
-  for (double sigma : {2.0, 6.0, 18.0, 54.0}) {
-    cv::Mat octave(h, w, CV_32FC3);
-    rng.fill(octave, cv::RNG::UNIFORM, -0.5, 0.5);
-    cv::GaussianBlur(octave, octave, cv::Size(0, 0), sigma);
-    cv::Scalar mean, sd;
-    cv::meanStdDev(octave.reshape(1), mean, sd);
-    log_e += octave * (0.8 / sd[0]);
-  }
-  cv::Mat e;
-  cv::exp(log_e, e);
-  return e;
-}
-
-// A hand-held camera turning about its lens: a rotation of the view by
-// (yaw, pitch, roll) degrees maps pixels by H = K R K⁻¹.
-cv::Matx33d TurnedCamera(double yaw, double pitch, double roll, double f, cv::Size size) {
-  const double a = yaw * CV_PI / 180, b = pitch * CV_PI / 180, c = roll * CV_PI / 180;
-  const cv::Matx33d Ry(std::cos(a), 0, std::sin(a), 0, 1, 0, -std::sin(a), 0, std::cos(a));
-  const cv::Matx33d Rx(1, 0, 0, 0, std::cos(b), -std::sin(b), 0, std::sin(b), std::cos(b));
-  const cv::Matx33d Rz(std::cos(c), -std::sin(c), 0, std::sin(c), std::cos(c), 0, 0, 0, 1);
-  const cv::Matx33d K(f, 0, size.width / 2.0, 0, f, size.height / 2.0, 0, 0, 1);
-  return K * Rz * Rx * Ry * K.inv();
-}
 
 // Where two warps send the pixels of a 9 × 9 grid over the image, apart:
 // the RMS and the largest distance.
@@ -56,7 +28,7 @@ std::pair<double, double> Disagreement(const cv::Matx33d& A, const cv::Matx33d& 
 }  // namespace
 
 TEST(Align, TranslationRecoversAKnownShiftAcrossExposures) {
-  const cv::Mat e = TexturedRadiance(640, 480);
+  const cv::Mat e = TexturedRadiance({640, 480});
   const std::vector<double> t = BracketTimes(e, 3, 2);
   std::vector<cv::Mat> f = SimulateBracket(e, t, CameraModel{});
   // The short frame was taken with the camera moved: content 7 px right, 4 up.
@@ -80,7 +52,7 @@ TEST(Align, TranslationRecoversAKnownShiftAcrossExposures) {
 // extrapolates), through exposure changes of up to 2 EV either way.
 TEST(Align, HomographyRecoversAHandHeldBracketWithinATenthOfAPixel) {
   const cv::Size size(800, 600);
-  const cv::Mat e = TexturedRadiance(size.width + 200, size.height + 200);
+  const cv::Mat e = TexturedRadiance({size.width + 200, size.height + 200});
   const std::vector<double> t = BracketTimes(e, 5, 1);
   const double f = 900;
   const std::vector<std::array<double, 3>> turns = {{0.8, -0.5, 1.2}, {-0.4, 0.3, -0.6}, {0, 0, 0}, {0.5, 0.6, 0.4},
@@ -110,7 +82,7 @@ TEST(Align, HomographyRecoversAHandHeldBracketWithinATenthOfAPixel) {
 // A frame of another scene, with signal where its neighbour has it, is
 // refused, naming it and the frame it was compared with.
 TEST(Align, AFrameOfAnotherSceneIsRefusedByName) {
-  const cv::Mat e = TexturedRadiance(400, 300), other = TexturedRadiance(400, 300, 11);
+  const cv::Mat e = TexturedRadiance({400, 300}), other = TexturedRadiance({400, 300}, 11);
   const std::vector<double> t = {0.5, 1, 1.4};
   std::vector<cv::Mat> f = SimulateBracket(e, t, CameraModel{});
   f[2] = SimulateBracket(other, {1.4}, CameraModel{})[0];

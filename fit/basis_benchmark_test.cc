@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "fit/test_databases.h"
 #include "normals/sphere_geometry.h"
 
 namespace brdfshot {
@@ -17,12 +18,7 @@ namespace fs = std::filesystem;
 // The reference cache is reused only for the very scene it was rendered for:
 // another sample count renders anew, and so does a damaged file.
 TEST(BasisBenchmark, TheReferenceCacheIsReusedOnlyWhenItMatchesAndIntact) {
-  DatabaseOptions d;
-  d.kind = "standin";
-  d.data_root = std::string(BRDFSHOT_SOURCE_DIR) + "/samples/assets";
-  d.grid = MerlGrid{10, 10, 20};
-  d.use_cache = false;
-  const BasisDatabase db = LoadDatabase(d);
+  const BasisDatabase db = LoadDatabase(DemoStandins());
   cv::Mat sky(16, 32, CV_32FC3);
   cv::randu(sky, cv::Scalar::all(0.1), cv::Scalar::all(2.0));
   const LatLongProbe probe(sky, "sky");

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "fit/test_databases.h"
 #include "util/check.h"
 #include "util/data_paths.h"
 
@@ -14,15 +15,6 @@ namespace brdfshot {
 namespace fs = std::filesystem;
 
 namespace {
-// The repository's 16 demo stand-ins on a small grid: a real computed database.
-DatabaseOptions DemoStandins() {
-  DatabaseOptions opt;
-  opt.kind = "standin";
-  opt.data_root = std::string(BRDFSHOT_SOURCE_DIR) + "/samples/assets";
-  opt.grid = MerlGrid{6, 6, 12};
-  opt.use_cache = false;
-  return opt;
-}
 
 struct TempDir {
   fs::path path;
@@ -58,7 +50,7 @@ std::string ErrorOf(const std::function<void()>& call) {
 }  // namespace
 
 TEST(DatabaseCache, RoundTripsExactlyAndSelectsColumns) {
-  const BasisDatabase db = LoadDatabase(DemoStandins());
+  const BasisDatabase db = LoadDatabase(DemoStandins(MerlGrid{6, 6, 12}));
   ASSERT_EQ(db.num_materials(), 16);
   const Eigen::MatrixXd gram = GramMatrix(db.B);
   const std::vector<float> w = CosineWeights(db.grid);
@@ -95,7 +87,7 @@ TEST(DatabaseCache, RoundTripsExactlyAndSelectsColumns) {
 }
 
 TEST(DatabaseCache, DamagedTruncatedOrForeignFilesAreRefusedNamingTheFile) {
-  DatabaseOptions opt = DemoStandins();
+  DatabaseOptions opt = DemoStandins(MerlGrid{6, 6, 12});
   opt.only = {"demo-gold", "demo-felt"};
   const BasisDatabase db = LoadDatabase(opt);
   const Eigen::MatrixXd gram = GramMatrix(db.B);
@@ -129,7 +121,7 @@ TEST(DatabaseCache, DamagedTruncatedOrForeignFilesAreRefusedNamingTheFile) {
 TEST(DatabaseCache, LoadDatabaseRebuildsADamagedCacheWithAWarning) {
   TempDir dir;
   ::setenv("BRDFSHOT_CACHE", dir.path.c_str(), 1);
-  DatabaseOptions opt = DemoStandins();
+  DatabaseOptions opt = DemoStandins(MerlGrid{6, 6, 12});
   const BasisDatabase direct = LoadDatabase(opt);  // use_cache = false
   opt.use_cache = true;
   opt.exclude = {"demo-gold"};

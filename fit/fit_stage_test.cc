@@ -6,6 +6,7 @@
 
 #include "fit/class_model.h"
 #include "fit/scene_basis.h"
+#include "fit/test_databases.h"
 #include "util/check.h"
 #include "util/image_io.h"
 
@@ -13,15 +14,6 @@ namespace brdfshot {
 namespace {
 
 namespace fs = std::filesystem;
-
-DatabaseOptions DemoStandins() {
-  DatabaseOptions o;
-  o.kind = "standin";
-  o.data_root = std::string(BRDFSHOT_SOURCE_DIR) + "/samples/assets";
-  o.grid = MerlGrid{10, 10, 20};
-  o.use_cache = false;
-  return o;
-}
 
 // A scene whose photo is exactly one database material: basis images, class
 // model and photo on disk, as the stages before `fit` leave them.

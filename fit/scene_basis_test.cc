@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "fit/test_databases.h"
 #include "util/image_io.h"
 
 namespace brdfshot {
@@ -17,10 +18,7 @@ SceneBasisOptions DemoScene(const std::string& probe) {
   o.sphere = 16;
   o.quality.theta_samples = 8;
   o.quality.phi_samples = 12;
-  o.database.kind = "standin";
-  o.database.data_root = std::string(BRDFSHOT_SOURCE_DIR) + "/samples/assets";
-  o.database.grid = MerlGrid{10, 10, 20};
-  o.database.use_cache = false;
+  o.database = DemoStandins();
   return o;
 }
 
