@@ -1,6 +1,8 @@
 // brdfshot eval: every material of the database left out in turn (or another
 // database's materials as targets), fitted under each probe by the default and
-// its baselines, scored relit; CSV + markdown + plots (fit/evaluation.h).
+// its baselines, scored relit; CSV + markdown + plots (fit/evaluation.h). In
+// independent jobs: `--shard i/n` runs every n-th material and writes a shard,
+// `--merge` makes the tables of all n (fit/evaluation_shard.h).
 #include <cstdio>
 #include <sstream>
 
@@ -9,65 +11,115 @@
 #include "apps/scene_setup.h"
 #include "fit/eval_report.h"
 #include "fit/evaluation.h"
+#include "fit/evaluation_shard.h"
 #include "fit/photo_fit.h"
-#include "util/atomic_file.h"
+#include "util/check.h"
 
 namespace brdfshot {
 namespace po = boost::program_options;
 
-int EvalMain(int argc, char** argv) {
+namespace {
+
+// The command line as typed; ToOptions checks it and fills the evaluation's options.
+struct EvalArgs {
   DatabaseArgs db;
   QualityArgs quality;
   EvaluationOptions eo;
-  LooOptions& loo = eo.loo;
-  std::string probes_arg, out = "eval_out", grid_arg;
+  std::string probes, out = "eval_out", grid, constraint = "bins", shard, merge;
   bool no_directional = false;
-  std::string constraint = "bins";
-  po::options_description desc("options");
-  // clang-format off
-  desc.add_options()
-      ("out,o", po::value(&out)->default_value(out), "output folder (CSV, markdown, plots)")
-      ("probes", po::value(&probes_arg), "comma-separated probes (default: every <data>/envmaps/*.exr)")
-      ("no-directional", po::bool_switch(&no_directional), "do not also score under small suns over a dim sky")
-      ("sphere", po::value(&eo.sphere)->default_value(eo.sphere), "sphere diameter in pixels")
-      ("margin", po::value(&eo.margin)->default_value(eo.margin), "drop pixels whose normal is further than this from the view (deg)")
-      ("lambda", po::value(&loo.lambda)->default_value(loo.lambda), "regularisation weight of the fixed-λ methods ours and paper (paper: 0.5)")
-      ("lambda-rule", po::value(&loo.choice.rule)->default_value(loo.choice.rule), "rule of the auto method: cv, gcv or fixed")
-      ("constraint", po::value(&constraint)->default_value(constraint), "what the auto method keeps non-negative: bins, weights or none")
-      ("folds", po::value(&eo.folds)->default_value(eo.folds), "wedges for the auto method's cross-validation")
-      ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
-      ("max-condition", po::value(&loo.choice.max_condition)->default_value(loo.choice.max_condition), "auto: λ values beyond this condition number of G_JJ + λ_j I are not candidates")
-      ("lambda-grid", po::value(&grid_arg), "comma-separated λ values the auto method chooses among (default: 0 … 10)")
-      ("targets", po::value(&eo.targets_kind), "evaluate on another database's materials instead of leaving each out "
-       "(e.g. standin: the analytic stand-ins, none of them in MERL), fitted with all of --db's bases")
-      ("targets-data", po::value(&eo.targets_data), "data folder of --targets (default: --data)")
-      ("classes", po::value(&loo.gmm.classes)->default_value(loo.gmm.classes), "Gaussians K")
-      ("dims", po::value(&loo.gmm.dims)->default_value(loo.gmm.dims), "SVD coordinates N");
-  // clang-format on
-  db.Add(desc);
-  quality.Add(desc);
-  if (!ParseOptions("eval", "[options]", desc, argc, argv)) return 0;
-  if (!grid_arg.empty()) loo.choice.grid = ParseLambdaGrid(grid_arg);
-  loo.constraint = ParseConstraint(constraint);
-  eo.directional = !no_directional;
-  eo.quality = quality.q;
-  eo.progress = true;
-  for (const std::string& path : ResolveProbes(probes_arg, db.data)) eo.probes.push_back(LatLongProbe::Read(path));
-  MakeOutputDir(out);
 
-  const Evaluation ev = RunEvaluation(db.ToOptions(true), eo);
-  std::ostringstream settings;
-  settings << "database **" << ev.database_label << "** (" << ev.materials.size() << " materials, grid " << ev.grid.n_th
-           << "x" << ev.grid.n_td << "x" << ev.grid.n_pd << "); sphere " << eo.sphere << " px (" << ev.pixels
-           << " pixels, margin " << eo.margin << "°); quality " << eo.quality.Describe() << "; auto: λ by "
-           << loo.choice.rule << " over " << eo.folds << " wedges, constraint: " << ConstraintName(loo.constraint)
-           << "; ours and paper: λ = " << loo.lambda << "; N = " << loo.gmm.dims << ", K = " << loo.gmm.classes;
-  const std::string report = EvaluationMarkdown(ev, settings.str(), loo.lambda);
-  WriteEvaluationCsv(ev, out + "/eval.csv");
-  WriteFileAtomic(out + "/eval.md", [&](std::ostream& o) { o << report; });
-  const std::vector<std::string> plots = WriteEvaluationPlots(ev, out);
-  std::printf("%s\nwrote %s/eval.csv, %s/eval.md, %s, %s\n", report.c_str(), out.c_str(), out.c_str(), plots[0].c_str(),
-              plots[1].c_str());
+  void Add(po::options_description& desc) {
+    LooOptions& loo = eo.loo;
+    // clang-format off
+    desc.add_options()
+        ("out,o", po::value(&out)->default_value(out), "output folder (CSV, markdown, plots; or the shard)")
+        ("probes", po::value(&probes), "comma-separated probes (default: every <data>/envmaps/*.exr)")
+        ("no-directional", po::bool_switch(&no_directional), "do not also score under small suns over a dim sky")
+        ("sphere", po::value(&eo.sphere)->default_value(eo.sphere), "sphere diameter in pixels")
+        ("margin", po::value(&eo.margin)->default_value(eo.margin), "drop pixels whose normal is further than this from the view (deg)")
+        ("lambda", po::value(&loo.lambda)->default_value(loo.lambda), "regularisation weight of the fixed-λ methods ours and paper (paper: 0.5)")
+        ("lambda-rule", po::value(&loo.choice.rule)->default_value(loo.choice.rule), "rule of the auto method: cv, gcv or fixed")
+        ("constraint", po::value(&constraint)->default_value(constraint), "what the auto method keeps non-negative: bins, weights or none")
+        ("folds", po::value(&eo.folds)->default_value(eo.folds), "wedges for the auto method's cross-validation")
+        ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
+        ("max-condition", po::value(&loo.choice.max_condition)->default_value(loo.choice.max_condition), "auto: λ values beyond this condition number of G_JJ + λ_j I are not candidates")
+        ("lambda-grid", po::value(&grid), "comma-separated λ values the auto method chooses among (default: 0 … 10)")
+        ("targets", po::value(&eo.targets_kind), "evaluate on another database's materials instead of leaving each out "
+         "(e.g. standin: the analytic stand-ins, none of them in MERL), fitted with all of --db's bases")
+        ("targets-data", po::value(&eo.targets_data), "data folder of --targets (default: --data)")
+        ("classes", po::value(&loo.gmm.classes)->default_value(loo.gmm.classes), "Gaussians K")
+        ("dims", po::value(&loo.gmm.dims)->default_value(loo.gmm.dims), "SVD coordinates N")
+        ("shard", po::value(&shard), "i/n: run only every n-th material, from the i-th (0-based), and write <out>/eval_shard_i_of_n.json")
+        ("merge", po::value(&merge), "comma-separated shard files of one run: write the tables of all of them");
+    // clang-format on
+    db.Add(desc);
+    quality.Add(desc);
+  }
+
+  EvaluationOptions ToOptions() {
+    if (!grid.empty()) eo.loo.choice.grid = ParseLambdaGrid(grid);
+    eo.loo.constraint = ParseConstraint(constraint);
+    eo.directional = !no_directional;
+    eo.quality = quality.q;
+    eo.progress = true;
+    if (!shard.empty()) {
+      const size_t slash = shard.find('/');
+      const std::vector<double> v =
+          ParseNumberList(slash == std::string::npos ? shard : shard.substr(0, slash) + "," + shard.substr(slash + 1),
+                          2, "--shard", "i/n");
+      if (!(v[1] >= 1 && v[0] >= 0 && v[0] < v[1] && v[0] == int(v[0]) && v[1] == int(v[1])))
+        throw Error("--shard " + shard + ": expected i/n with 0 ≤ i < n, e.g. 0/8");
+      eo.loo.shard_index = static_cast<int>(v[0]), eo.loo.shard_count = static_cast<int>(v[1]);
+    }
+    for (const std::string& path : ResolveProbes(probes, db.data)) eo.probes.push_back(LatLongProbe::Read(path));
+    return eo;
+  }
+
+  // What the markdown states about the run.
+  std::string Settings(const Evaluation& ev) const {
+    std::ostringstream s;
+    s << "database **" << ev.database_label << "** (" << ev.materials.size() << " materials, grid " << ev.grid.n_th
+      << "x" << ev.grid.n_td << "x" << ev.grid.n_pd << "); sphere " << eo.sphere << " px (" << ev.pixels
+      << " pixels, margin " << eo.margin << "°); quality " << eo.quality.Describe() << "; auto: λ by "
+      << eo.loo.choice.rule << " over " << eo.folds << " wedges, constraint: " << ConstraintName(eo.loo.constraint)
+      << "; ours and paper: λ = " << eo.loo.lambda << "; N = " << eo.loo.gmm.dims << ", K = " << eo.loo.gmm.classes;
+    return s.str();
+  }
+};
+
+}  // namespace
+
+int EvalMain(int argc, char** argv) {
+  EvalArgs args;
+  po::options_description desc("options");
+  args.Add(desc);
+  if (!ParseOptions("eval", "[options]", desc, argc, argv)) return 0;
+  MakeOutputDir(args.out);
+  EvaluationShard run;
+  if (!args.merge.empty()) {
+    std::vector<EvaluationShard> shards;
+    const std::vector<std::string> files = SplitList(args.merge);
+    for (const std::string& f : files) shards.push_back(ReadEvaluationShard(f));
+    run = MergeEvaluationShards(shards, files);
+  } else {
+    const EvaluationOptions eo = args.ToOptions();
+    run.evaluation = RunEvaluation(args.db.ToOptions(true), eo);
+    run.settings = args.Settings(run.evaluation), run.fixed_lambda = eo.loo.lambda;
+  }
+  const Evaluation& ev = run.evaluation;
+  if (ev.shard_count > 1) {
+    const std::string path = args.out + "/eval_shard_" + std::to_string(ev.shard_index) + "_of_" +
+                             std::to_string(ev.shard_count) + ".json";
+    WriteEvaluationShard(run, path);
+    std::printf("shard %d of %d: %zu rows in %.1f s\nwrote %s\n", ev.shard_index, ev.shard_count,
+                ev.result.rows.size(), ev.seconds_total, path.c_str());
+    return 0;
+  }
+  std::vector<std::string> written;
+  const std::string report = WriteEvaluationReport(ev, run.settings, run.fixed_lambda, args.out, &written);
+  std::printf("%s\nwrote", report.c_str());
+  for (const std::string& w : written) std::printf(" %s", w.c_str());
+  std::printf("\n");
   return 0;
 }
 

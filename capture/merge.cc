@@ -137,9 +137,10 @@ namespace {
 // relative standard deviation, 1 / (√(Σ_j w_j) · E) under the
 // inverse-variance weights, exceeds kChromaNoise (a signal-to-noise ratio of
 // 3.3), or when some channel is unmeasured for want of light. The threshold
-// is set where the noise model's absolute level can be trusted: on a film
-// scan (Debevec's memorial) the fitted shot noise is high, and 15 % would
-// pool 40 % of its pixels, 30 % pools 14 % (bench-merge, docs/benchmarks.md).
+// is high because the noise model's absolute level is only as good as its
+// fit: on a film scan (Debevec's memorial) the fitted shot noise is high, and
+// a lower threshold would pool the colour of much of a well-exposed image
+// (docs/benchmarks.md).
 constexpr double kChromaNoise = 0.3;
 
 void PoolNoisyChroma(const cv::Mat& noisy, cv::Mat* radiance) {

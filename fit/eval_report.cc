@@ -201,4 +201,14 @@ std::vector<std::string> WriteEvaluationPlots(const Evaluation& ev, const std::s
   return {per_material, per_group};
 }
 
+std::string WriteEvaluationReport(const Evaluation& ev, const std::string& settings, double fixed_lambda,
+                                  const std::string& dir, std::vector<std::string>* written) {
+  const std::string report = EvaluationMarkdown(ev, settings, fixed_lambda);
+  WriteEvaluationCsv(ev, dir + "/eval.csv");
+  WriteFileAtomic(dir + "/eval.md", [&](std::ostream& o) { o << report; });
+  *written = {dir + "/eval.csv", dir + "/eval.md"};
+  for (const std::string& p : WriteEvaluationPlots(ev, dir)) written->push_back(p);
+  return report;
+}
+
 }  // namespace brdfshot

@@ -38,4 +38,9 @@ std::string EvaluationMarkdown(const Evaluation& ev, const std::string& settings
 // relit_per_material.png and relit_per_group.png in `dir`; returns their paths.
 std::vector<std::string> WriteEvaluationPlots(const Evaluation& ev, const std::string& dir);
 
+// eval.csv, eval.md and the plots in `dir`; returns the markdown and, in
+// `written`, every file.
+std::string WriteEvaluationReport(const Evaluation& ev, const std::string& settings, double fixed_lambda,
+                                  const std::string& dir, std::vector<std::string>* written);
+
 }  // namespace brdfshot

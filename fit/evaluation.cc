@@ -135,6 +135,8 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
   LooOptions loo = opt.loo;
   loo.progress = opt.progress;
   Stopwatch fw;
+  ev.shard_index = opt.loo.shard_index;
+  ev.shard_count = opt.loo.shard_count;
   ev.result = ood ? RunOutOfDatabase(in, target_scenes, targets.materials, loo) : RunLeaveOneOut(in, loo);
   ev.seconds_fits = fw.Seconds();
   ev.seconds_total = total.Seconds();

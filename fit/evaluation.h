@@ -50,6 +50,7 @@ struct Evaluation {
   double lowest_basis_value = 0;        // over the sampled bins: < 0 means the bases themselves go negative
   LooResult result;
   double seconds_database = 0, seconds_grams = 0, seconds_basis = 0, seconds_fits = 0, seconds_total = 0;
+  int shard_index = 0, shard_count = 1;  // result holds this shard's rows (EvaluationOptions::loo)
 };
 
 // Small suns over a dim sky, at 15° and 45° above the horizon, from the

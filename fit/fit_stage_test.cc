@@ -18,7 +18,9 @@ namespace fs = std::filesystem;
 // A scene whose photo is exactly one database material: basis images, class
 // model and photo on disk, as the stages before `fit` leave them.
 struct Scene {
-  fs::path dir = fs::temp_directory_path() / "brdfshot_fit_stage_test";
+  // One folder per test: ctest runs the tests of a binary in parallel.
+  fs::path dir = fs::temp_directory_path() /
+                 ("brdfshot_fit_stage_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
   FitStageOptions o;
   Scene() {
     fs::remove_all(dir);

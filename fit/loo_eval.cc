@@ -141,9 +141,10 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
 
   std::vector<std::vector<LooRow>> per_material(M);
   std::vector<double> t_cluster(M), t_solve(M);
-  Progress progress("leave-one-out", M, opt.progress);
+  Progress progress("leave-one-out", (M - opt.shard_index + opt.shard_count - 1) / opt.shard_count, opt.progress);
 #pragma omp parallel for schedule(dynamic, 1)
   for (int m = 0; m < M; ++m) {
+    if (m % opt.shard_count != opt.shard_index) continue;
     Stopwatch sw;
     std::vector<int> keep;
     for (int i = 0; i < n; ++i)

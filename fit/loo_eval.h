@@ -69,6 +69,9 @@ struct LooOptions {
   // What "auto" keeps non-negative (kBins: LooInputs::constraint_sample);
   // "auto-signed" is the same choice unconstrained.
   WeightConstraint::Kind constraint = WeightConstraint::Kind::kBins;
+  // Only the materials (or targets) m with m mod shard_count = shard_index:
+  // one of shard_count independent jobs whose rows together are the full run's.
+  int shard_index = 0, shard_count = 1;
   bool progress = false;
 };
 

@@ -120,11 +120,12 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
   r.seconds_cluster = sw.Seconds();
 
   std::vector<std::vector<LooRow>> per_target(T);
-  Progress progress("out of database", T, opt.progress);
+  Progress progress("out of database", (T - opt.shard_index + opt.shard_count - 1) / opt.shard_count, opt.progress);
   SolveOptions so;
   so.lambda = opt.lambda;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int t = 0; t < T; ++t) {
+    if (t % opt.shard_count != opt.shard_index) continue;
     for (int a : fitted) {
       const auto& fa = bases.scenes[a].f;
       const TargetScene& ta = scenes[a];

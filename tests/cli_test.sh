@@ -148,6 +148,14 @@ check bench-merge 0 "wrote" -- "$B" bench-merge --probes "$PROBE" --size 128x64 
 "$B" synth-capture --probe "$PROBE" --standin demo-red-plastic $DB --size 320x240 --radius 70 --focal-px 480 \
   --probe-shot-width 64 -o "$T/fcap" >/dev/null && "$B" merge "$T/fcap/photo" -o "$T/fp.exr" >/dev/null
 grep -q '"focal_35mm": 54.0' "$T/fp.json" && pass=$((pass+1)) || { echo "FAIL merge sidecar focal_35mm"; fail=$((fail+1)); }
+# eval in independent jobs: two shards merged give the one-process table.
+EV="--probes $DATA/envmaps/forest_256.exr,$PROBE --sphere 16 --no-directional"
+check eval-shard0 0 "eval_shard_0_of_2.json" -- "$B" eval $DB $EV --shard 0/2 -o "$T/ev"
+check eval-shard1 0 "eval_shard_1_of_2.json" -- "$B" eval $DB $EV --shard 1/2 -o "$T/ev"
+check eval-merge 0 "eval.csv" -- "$B" eval --merge "$T/ev/eval_shard_0_of_2.json,$T/ev/eval_shard_1_of_2.json" -o "$T/evm"
+check eval-whole 0 "eval.csv" -- "$B" eval $DB $EV -o "$T/evw"
+cmp -s "$T/evm/eval.csv" "$T/evw/eval.csv" && pass=$((pass+1)) || { echo "FAIL merged shards differ from one run"; fail=$((fail+1)); }
+check eval-merge-missing 1 "shard 1 of 2 is missing" -- "$B" eval --merge "$T/ev/eval_shard_0_of_2.json" -o "$T/evm2"
 # merge-check on the same bracket: each inner frame predicted by ours and by OpenCV's merge.
 check merge-check 0 "| brdfshot | " -- "$B" merge-check "$T/fcap/photo"
 check merge-align 0 "merged" -- "$B" merge "$T/fcap/photo" --align -o "$T/fpa.exr"
