@@ -110,9 +110,9 @@ struct CalibArgs {
       const std::vector<double> r = ParseNumberList(card_region, 4, "--card-region", "x,y,w,h in pixels");
       const std::vector<double> n = ParseNumberList(card_normal, 3, "--card-normal", "x,y,z");
       o.card_photo = card_photo;
-      o.card = {cv::Rect(static_cast<int>(r[0]), static_cast<int>(r[1]), static_cast<int>(r[2]),
-                         static_cast<int>(r[3])),
-                card_albedo, Vec3(n[0], n[1], n[2])};
+      o.card = {
+          cv::Rect(static_cast<int>(r[0]), static_cast<int>(r[1]), static_cast<int>(r[2]), static_cast<int>(r[3])),
+          card_albedo, Vec3(n[0], n[1], n[2])};
       if (!(Length(o.card.normal_camera) > 0)) throw Error("--card-normal must not be zero");
     }
     o.photo_merge = photo_merge;

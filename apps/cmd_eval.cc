@@ -108,11 +108,11 @@ int EvalMain(int argc, char** argv) {
   }
   const Evaluation& ev = run.evaluation;
   if (ev.shard_count > 1) {
-    const std::string path = args.out + "/eval_shard_" + std::to_string(ev.shard_index) + "_of_" +
-                             std::to_string(ev.shard_count) + ".json";
+    const std::string path =
+        args.out + "/eval_shard_" + std::to_string(ev.shard_index) + "_of_" + std::to_string(ev.shard_count) + ".json";
     WriteEvaluationShard(run, path);
-    std::printf("shard %d of %d: %zu rows in %.1f s\nwrote %s\n", ev.shard_index, ev.shard_count,
-                ev.result.rows.size(), ev.seconds_total, path.c_str());
+    std::printf("shard %d of %d: %zu rows in %.1f s\nwrote %s\n", ev.shard_index, ev.shard_count, ev.result.rows.size(),
+                ev.seconds_total, path.c_str());
     return 0;
   }
   std::vector<std::string> written;

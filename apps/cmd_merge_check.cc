@@ -30,8 +30,10 @@ int MergeCheckMain(int argc, char** argv) {
   const Bracket b = ReadBracket(ExpandBracketInputs(inputs), read);
   CheckBracketMeasured(b);
   const std::string table = BracketCheckTable(CheckBracket(b.frames, b.exposure));
-  std::printf("%zu frames, %dx%d: each inner frame predicted from the others (its mid-tones, codes 32 … 223 in every channel)\n\n%s",
-              b.frames.size(), b.frames[0].cols, b.frames[0].rows, table.c_str());
+  std::printf(
+      "%zu frames, %dx%d: each inner frame predicted from the others (its mid-tones, codes 32 … 223 in every "
+      "channel)\n\n%s",
+      b.frames.size(), b.frames[0].cols, b.frames[0].rows, table.c_str());
   if (!out.empty()) {
     WriteFileAtomic(out, [&](std::ostream& o) { o << table; });
     std::printf("wrote %s\n", out.c_str());

@@ -80,9 +80,9 @@ int NormalsMain(int argc, char** argv) {
   WriteFileAtomic(args.out, [&](std::ostream& o) { o << text << "\n"; });
   if (!args.normal_map_out.empty()) WriteExr(args.normal_map_out, NormalMapOf(v));
   WritePng(overlay, DetectionOverlay(rgb, s.detection));
-  const std::string camera =
-      v.perspective ? "perspective, f " + std::to_string(std::lround(v.focal_px)) + " px " + focal_from
-                    : "orthographic";
+  const std::string camera = v.perspective
+                                 ? "perspective, f " + std::to_string(std::lround(v.focal_px)) + " px " + focal_from
+                                 : "orthographic";
   std::printf(
       "sphere in %s: centre (%.2f, %.2f) radius %.2f px (%s), %d/%d rim points, rms %.3f px, blur %.2f px, %.0f ms\n"
       "wrote %s, %s\n",

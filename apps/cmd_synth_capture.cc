@@ -95,8 +95,8 @@ int SynthCaptureMain(int argc, char** argv) {
       "photo: %zu frames (%s, %g stops), probe: %zu frames of %dx%d; %.2f s\nwrote %s/{capture.mk, photo/, probe/, "
       "truth/%s}\n",
       o.material.c_str(), probe.name().c_str(), v.circle.r, v.circle.cx, v.circle.cy, o.shot.width, o.shot.height,
-      o.shot.focal_px, c.photo_frames.size(), args.format_name.c_str(), o.stops, c.probe_frames.size(), c.probe_shot.width,
-      c.probe_shot.height, sw.Seconds(), args.out.c_str(), o.mirror_ball > 0 ? ", ball.exr" : "");
+      o.shot.focal_px, c.photo_frames.size(), args.format_name.c_str(), o.stops, c.probe_frames.size(),
+      c.probe_shot.width, c.probe_shot.height, sw.Seconds(), args.out.c_str(), o.mirror_ball > 0 ? ", ball.exr" : "");
   return 0;
 }
 

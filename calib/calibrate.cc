@@ -161,14 +161,14 @@ CalibrateResult Calibrate(const CalibrateOptions& o) {
     result.card = rs;
   }
   if (!o.photo_merge.empty()) {
-    const RadiometricScale rs = ScaleFromMergeSidecars(ReadJsonFile(o.photo_merge), o.photo_merge,
-                                                       ReadJsonFile(o.probe_merge), o.probe_merge);
+    const RadiometricScale rs =
+        ScaleFromMergeSidecars(ReadJsonFile(o.photo_merge), o.photo_merge, ReadJsonFile(o.probe_merge), o.probe_merge);
     cal.scale = rs.scale;
     record["scale_from_merges"] = {
         {"photo", o.photo_merge}, {"probe", o.probe_merge}, {"response_ratio_spread", rs.spread}};
     if (rs.spread > 0.05)
-      result.warnings.push_back(o.photo_merge + ", " + o.probe_merge +
-                                ": the two response curves differ in shape by " + Percent(rs.spread) +
+      result.warnings.push_back(o.photo_merge + ", " + o.probe_merge + ": the two response curves differ in shape by " +
+                                Percent(rs.spread) +
                                 " over the mid codes; merge the photo with the probe's --response, or use --card");
   }
   return result;

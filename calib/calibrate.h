@@ -32,7 +32,7 @@ struct BallLocation {
 
 // One distant light, e.g. a photometric-stereo LED or the sun.
 struct SunLight {
-  Vec3 direction{0, 0, 1};          // towards the light, probe frame
+  Vec3 direction{0, 0, 1};        // towards the light, probe frame
   cv::Vec3d irradiance{1, 1, 1};  // at normal incidence
   double radius_deg = 1;
 };
@@ -59,10 +59,10 @@ struct CalibrateOptions {
 };
 
 struct CalibrateResult {
-  LatLongProbe probe;                        // lat-long, probe frame
-  Calibration calibration;                   // Calibration::probe left for the caller to name
-  std::optional<RadiometricScale> card;      // the card's measurement, when one was used
-  std::vector<std::string> warnings;         // for the user: measurements to double-check
+  LatLongProbe probe;                    // lat-long, probe frame
+  Calibration calibration;               // Calibration::probe left for the caller to name
+  std::optional<RadiometricScale> card;  // the card's measurement, when one was used
+  std::vector<std::string> warnings;     // for the user: measurements to double-check
 };
 
 // Errors name the file: an unreadable probe or photo, an angular map that is

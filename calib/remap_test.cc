@@ -16,8 +16,9 @@ namespace fs = std::filesystem;
 
 struct Scene {
   // One folder per test: ctest runs the tests of a binary in parallel.
-  fs::path dir = fs::temp_directory_path() /
-                 ("brdfshot_remap_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+  fs::path dir =
+      fs::temp_directory_path() /
+      ("brdfshot_remap_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
   std::string photo, sphere, calib;
   Rotation rotation = Rotation::FromYawPitchRoll(90, 20, 0);
 

@@ -220,7 +220,8 @@ AlignedBracket AlignBracket(const std::vector<cv::Mat>& frames, const std::vecto
   for (int q = 0; q < n; ++q)  // the first refusal in exposure order, as a serial run would give it
     if (!failed[order[q]].empty()) throw Error(failed[order[q]]);
   for (int step : {-1, 1})
-    for (int q = mid + step; q >= 0 && q < n; q += step) out.warps[order[q]] = pair[order[q]] * out.warps[order[q - step]];
+    for (int q = mid + step; q >= 0 && q < n; q += step)
+      out.warps[order[q]] = pair[order[q]] * out.warps[order[q - step]];
   // The chain's errors add up; a last refinement straight against the
   // reference, from the chained warp, removes them where the two exposures
   // still share enough signal (else the chain stands).

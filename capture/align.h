@@ -26,9 +26,9 @@ enum class AlignModel { kTranslation, kHomography };
 
 struct AlignOptions {
   AlignModel model = AlignModel::kHomography;
-  int max_shift_px = 64;         // bounds MTB's search (its pyramid depth is chosen from it)
-  double min_overlap = 0.5;      // of the reference frame a warped frame must cover, else refused
-  double min_correlation = 0.5;  // ECC's correlation coefficient below which a pair is refused
+  int max_shift_px = 64;                 // bounds MTB's search (its pyramid depth is chosen from it)
+  double min_overlap = 0.5;              // of the reference frame a warped frame must cover, else refused
+  double min_correlation = 0.5;          // ECC's correlation coefficient below which a pair is refused
   std::vector<std::string> frame_names;  // for messages (the files); empty: "frame <index>"
 };
 

@@ -55,10 +55,10 @@ TEST(Align, HomographyRecoversAHandHeldBracketWithinATenthOfAPixel) {
   const cv::Mat e = TexturedRadiance({size.width + 200, size.height + 200});
   const std::vector<double> t = BracketTimes(e, 5, 1);
   const double f = 900;
-  const std::vector<std::array<double, 3>> turns = {{0.8, -0.5, 1.2}, {-0.4, 0.3, -0.6}, {0, 0, 0}, {0.5, 0.6, 0.4},
-                                                    {-1.0, -0.7, -1.5}};
+  const std::vector<std::array<double, 3>> turns = {
+      {0.8, -0.5, 1.2}, {-0.4, 0.3, -0.6}, {0, 0, 0}, {0.5, 0.6, 0.4}, {-1.0, -0.7, -1.5}};
   std::vector<cv::Mat> frames;
-  std::vector<cv::Matx33d> truth;  // reference pixel → frame pixel
+  std::vector<cv::Matx33d> truth;                            // reference pixel → frame pixel
   const cv::Matx33d crop = {1, 0, 100, 0, 1, 100, 0, 0, 1};  // the frame's window into the wider scene
   for (size_t j = 0; j < t.size(); ++j) {
     const cv::Matx33d H = TurnedCamera(turns[j][0], turns[j][1], turns[j][2], f, size);

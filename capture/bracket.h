@@ -57,10 +57,10 @@ void CheckBracketMeasured(const Bracket& b);
 int ClipReachFor(const Bracket& b, bool is_probe);
 
 struct BracketMergeOptions {
-  bool align = false;                       // hand-held: frames aligned onto the middle one (capture/align.h)
+  bool align = false;  // hand-held: frames aligned onto the middle one (capture/align.h)
   AlignModel align_model = AlignModel::kHomography;
-  bool deghost = false;  // things that moved between frames taken from the middle frame (capture/ghosts.h)
-  bool is_probe = false;                    // ClipReachFor
+  bool deghost = false;   // things that moved between frames taken from the middle frame (capture/ghosts.h)
+  bool is_probe = false;  // ClipReachFor
   const ResponseCurve* response = nullptr;  // reuse instead of recovering
 };
 

@@ -19,9 +19,9 @@
 namespace brdfshot {
 
 struct GhostOptions {
-  double sigmas = 5;         // disagreement in standard deviations of the difference…
+  double sigmas = 5;           // disagreement in standard deviations of the difference…
   double min_relative = 0.15;  // …and as a ratio (response error and misregistration stay below it)
-  int grow_px = 2;           // a ghost region is grown by this many pixels (its soft edges)
+  int grow_px = 2;             // a ghost region is grown by this many pixels (its soft edges)
 };
 
 // Per frame, CV_8U 255 where it disagrees with `reference` (never in the

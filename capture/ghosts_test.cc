@@ -20,9 +20,7 @@ cv::Mat SceneWithSquareAt(int x0) {
   return e;
 }
 
-double RelativeError(const cv::Vec3f& got, const cv::Vec3f& want) {
-  return cv::norm(got - want) / cv::norm(want);
-}
+double RelativeError(const cv::Vec3f& got, const cv::Vec3f& want) { return cv::norm(got - want) / cv::norm(want); }
 
 }  // namespace
 

@@ -229,7 +229,7 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
       for (int j = 0; j < N; ++j) clip_rows[j] = clipped[j].ptr<uint8_t>(y);
     for (int x = 0; x < cols; ++x) {
       bool bad = false, noisy_here = false;  // some channel's estimate too noisy for its colour
-      uint64_t skip = 0;  // bit j: frame j is clipped nearby here (≤ 64 frames, CheckBracket)
+      uint64_t skip = 0;                     // bit j: frame j is clipped nearby here (≤ 64 frames, CheckBracket)
       if (!clipped.empty())
         for (int j = 0; j < N; ++j) skip |= (clip_rows[j][x] ? uint64_t{1} : 0) << j;
       for (int c = 0; c < 3; ++c) {

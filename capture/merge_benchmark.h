@@ -57,7 +57,7 @@ struct MergeBenchmarkOptions {
   int frames = 9;
   double stops = 1;
   CameraModel camera;
-  int jpeg_quality = 0;              // > 0: 8-bit frames through JPEG at this quality
+  int jpeg_quality = 0;  // > 0: 8-bit frames through JPEG at this quality
   // Every exposure shifted by this many EV from the bracket that covers the
   // scene: < 0 leaves the shadows below the longest frame's noise floor, as
   // in a night bracket exposed for its lights.

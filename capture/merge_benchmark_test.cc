@@ -40,7 +40,7 @@ TEST(MergeBenchmark, MeasurableWhereSomeFrameSawTheTruth) {
   CameraModel cam;
   cam.full_well = 1000, cam.read_noise = 5;  // the floor: e · t_max · 1000 > 100
   cv::Mat truth(1, 3, CV_32FC3);
-  truth.at<cv::Vec3f>(0, 0) = cv::Vec3f(0.04f, 0.2f, 1.0f);   // t = 0.5 … 2: floor at e > 0.05, clip at e ≥ 1.8
+  truth.at<cv::Vec3f>(0, 0) = cv::Vec3f(0.04f, 0.2f, 1.0f);  // t = 0.5 … 2: floor at e > 0.05, clip at e ≥ 1.8
   truth.at<cv::Vec3f>(0, 1) = cv::Vec3f(1.7f, 1.9f, 0.06f);
   truth.at<cv::Vec3f>(0, 2) = cv::Vec3f(0.049f, 2.5f, 0.5f);
   const cv::Mat m = MeasurableMask(truth, {0.5, 1.0, 2.0}, cam);

@@ -172,8 +172,8 @@ std::string BracketCheckTable(const BracketCheck& c) {
     for (int m = 0; m < 2; ++m) {
       const LeftOutFrame& f = m == 0 ? c.ours[i] : c.opencv[i];
       std::snprintf(buf, sizeof buf, "| %d | %.4g | %s | %ld | %.1f / %.1f / %.1f | %.4f |\n", f.frame, f.time,
-                    m == 0 ? "brdfshot" : "OpenCV Debevec", f.pixels, f.code_error[0], f.code_error[1],
-                    f.code_error[2], f.chroma_error);
+                    m == 0 ? "brdfshot" : "OpenCV Debevec", f.pixels, f.code_error[0], f.code_error[1], f.code_error[2],
+                    f.chroma_error);
       t += buf;
       code[m].push_back((f.code_error[0] + f.code_error[1] + f.code_error[2]) / 3);
       chroma[m].push_back(f.chroma_error);

@@ -4,10 +4,9 @@
 // codes from the merged radiance through the method's own response and k's
 // exposure, and compare with the codes frame k really holds where it shows
 // mid-tones (codes 32 … 223 in every channel: a real frame's darkest codes are
-// its black level and noise, its brightest near clipping). A merge that is right everywhere predicts every frame to within its
-// noise; wrong weights, a wrong response or misregistration show as error.
-// The chroma error compares the rg chromaticity of the prediction with the
-// frame's own (through the same response), so colour noise counts apart from
+// its black level and noise, its brightest near clipping). A merge that is right everywhere predicts every frame to
+// within its noise; wrong weights, a wrong response or misregistration show as error. The chroma error compares the rg
+// chromaticity of the prediction with the frame's own (through the same response), so colour noise counts apart from
 // brightness.
 //
 // Chroma speckle: isolated pixels of random saturated hue in the shadows,
@@ -38,11 +37,11 @@ MergeAndResponse OurMerge(const std::vector<cv::Mat>& rgb8, const std::vector<do
 MergeAndResponse OpenCvDebevecMerge(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times);
 
 struct LeftOutFrame {
-  int frame = 0;                      // index in the bracket
+  int frame = 0;  // index in the bracket
   double time = 0;
-  long pixels = 0;                    // mid-tones in every channel (codes 32 … 223)
+  long pixels = 0;                     // mid-tones in every channel (codes 32 … 223)
   std::array<double, 3> code_error{};  // median |predicted − real| code, per channel
-  double chroma_error = 0;            // median distance of rg chromaticities
+  double chroma_error = 0;             // median distance of rg chromaticities
 };
 
 // Every frame but the shortest and the longest left out in turn (those two

@@ -373,8 +373,8 @@ TEST(Merge, NoisyShadowsTakeTheirColourFromTheirNeighbours) {
   cv::Mat scene(240, 320, CV_32FC3);
   for (int y = 0; y < scene.rows; ++y)
     for (int x = 0; x < scene.cols; ++x)
-      scene.at<cv::Vec3f>(y, x) = x < 160 ? cv::Vec3f(0.004f, 0.003f, 0.0025f)
-                                          : cv::Vec3f(0.2f + x / 400.0f, 0.3f + y / 600.0f, 0.25f);
+      scene.at<cv::Vec3f>(y, x) =
+          x < 160 ? cv::Vec3f(0.004f, 0.003f, 0.0025f) : cv::Vec3f(0.2f + x / 400.0f, 0.3f + y / 600.0f, 0.25f);
   std::vector<double> t = BracketTimes(scene, 7, 1);
   for (double& ti : t) ti /= 2;
   CameraModel camera;
@@ -397,8 +397,8 @@ TEST(Merge, NoisyShadowsTakeTheirColourFromTheirNeighbours) {
 
   const double before = ChromaSpeckle(plain.radiance), after = ChromaSpeckle(pooled.radiance),
                opencv = ChromaSpeckle(cv_hdr);
-  std::printf("chroma speckle: channel by channel %.4f, pooled %.4f, OpenCV %.4f; %.1f %% of pixels pooled\n",
-              before, after, opencv, 100 * pooled.chroma_pooled_fraction);
+  std::printf("chroma speckle: channel by channel %.4f, pooled %.4f, OpenCV %.4f; %.1f %% of pixels pooled\n", before,
+              after, opencv, 100 * pooled.chroma_pooled_fraction);
   EXPECT_GT(before, 0.05) << "the scene is a hard one";
   EXPECT_LT(after, 0.01);
   EXPECT_LE(after, opencv);

@@ -103,7 +103,8 @@ BasisBenchmark RunBasisBenchmark(const BasisBenchmarkOptions& o) {
       double t_ref = 0;
       const std::string ref_path = o.cache + "/reference_" + full.name() + "_" + std::to_string(width) + "_s" +
                                    std::to_string(sphere) + "_step" + std::to_string(step) + ".bsbi";
-      const BasisImages ref = LoadOrRenderReference(ref_path, sub, probe, base, ref_mats, o.reference_samples, o.progress, &t_ref);
+      const BasisImages ref =
+          LoadOrRenderReference(ref_path, sub, probe, base, ref_mats, o.reference_samples, o.progress, &t_ref);
       // Brute force for all bases of the whole sphere, from its measured rate.
       const double brute = t_ref / (double(sub.size()) * ref_mats.size()) * g.size() * base.num_materials();
       for (const auto& [nt, np] : o.qualities) {

@@ -21,7 +21,7 @@ namespace brdfshot {
 
 struct BasisBenchmarkOptions {
   std::string probe;
-  std::vector<int> spheres{64, 128, 256};      // diameters, px
+  std::vector<int> spheres{64, 128, 256};  // diameters, px
   std::vector<int> probe_widths{256, 512, 1024};
   std::vector<std::pair<int, int>> qualities;  // half-vector samples θ × φ
   std::pair<int, int> reference_samples{192, 384};

@@ -58,7 +58,6 @@ std::vector<std::pair<std::string, double>> StageTimes(const std::string& path) 
   return rows;
 }
 
-
 CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
   const fs::path r(o.results);
   if (!fs::is_directory(r)) throw FileError(o.results, "is not a results folder");

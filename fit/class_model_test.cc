@@ -105,7 +105,8 @@ TEST(ClassModel, JsonRoundTripAndNamedErrors) {
   const Eigen::MatrixXd X = Blobs(&truth);
   ClassModel m = FitGmm(X, GmmOptions{});
   EXPECT_THROW(m.ToJson(), std::logic_error) << "a model that does not name its bases is not written";
-  for (Eigen::Index i = 0; i < X.cols(); ++i) m.basis_names.push_back("material" + std::to_string(i / 3) + "/RGB"[i % 3]);
+  for (Eigen::Index i = 0; i < X.cols(); ++i)
+    m.basis_names.push_back("material" + std::to_string(i / 3) + "/RGB"[i % 3]);
   m.database = "test database";
   m.grid = {9, 9, 18};
   const std::string path = (std::filesystem::temp_directory_path() / "brdfshot_class_model_test.json").string();

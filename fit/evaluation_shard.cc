@@ -12,12 +12,18 @@ namespace {
 constexpr const char* kShardFormat = "brdfshot-eval-shard-1";
 
 nlohmann::json RowJson(const LooRow& r) {
-  return {{"material", r.material},   {"probe", r.probe},
-          {"method", r.method},       {"chosen_class", r.chosen_class},
-          {"lambda", r.lambda},       {"predicted", r.predicted},
-          {"relit_mean", r.relit_mean}, {"relit_median", r.relit_median},
-          {"brdf", r.brdf},           {"insample", r.insample},
-          {"relit_directional", r.relit_directional}, {"negative_bins", r.negative_bins}};
+  return {{"material", r.material},
+          {"probe", r.probe},
+          {"method", r.method},
+          {"chosen_class", r.chosen_class},
+          {"lambda", r.lambda},
+          {"predicted", r.predicted},
+          {"relit_mean", r.relit_mean},
+          {"relit_median", r.relit_median},
+          {"brdf", r.brdf},
+          {"insample", r.insample},
+          {"relit_directional", r.relit_directional},
+          {"negative_bins", r.negative_bins}};
 }
 
 LooRow RowOf(const nlohmann::json& j) {
@@ -80,7 +86,8 @@ nlohmann::json EvaluationShard::ToJson() const {
 }
 
 EvaluationShard EvaluationShard::FromJson(const nlohmann::json& j, const std::string& source) {
-  if (!HasFormat(j, kShardFormat)) throw FileError(source, std::string("is not an evaluation shard (") + kShardFormat + ")");
+  if (!HasFormat(j, kShardFormat))
+    throw FileError(source, std::string("is not an evaluation shard (") + kShardFormat + ")");
   try {
     EvaluationShard s;
     s.settings = j.at("settings");
@@ -141,11 +148,13 @@ EvaluationShard MergeEvaluationShards(const std::vector<EvaluationShard>& shards
       throw FileError(sources[i], "is a shard of another run than " + sources[0] +
                                       " (database, materials, probes or settings differ)");
     if (seen[e.shard_index] >= 0)
-      throw FileError(sources[i], "repeats shard " + std::to_string(e.shard_index) + " of " + sources[seen[e.shard_index]]);
+      throw FileError(sources[i],
+                      "repeats shard " + std::to_string(e.shard_index) + " of " + sources[seen[e.shard_index]]);
     seen[e.shard_index] = static_cast<int>(i);
   }
   for (int k = 0; k < n; ++k)
-    if (seen[k] < 0) throw Error("eval --merge: shard " + std::to_string(k) + " of " + std::to_string(n) + " is missing");
+    if (seen[k] < 0)
+      throw Error("eval --merge: shard " + std::to_string(k) + " of " + std::to_string(n) + " is missing");
   EvaluationShard merged = shards[0];
   Evaluation& m = merged.evaluation;
   m.shard_index = 0, m.shard_count = 1;

@@ -19,8 +19,9 @@ namespace fs = std::filesystem;
 // model and photo on disk, as the stages before `fit` leave them.
 struct Scene {
   // One folder per test: ctest runs the tests of a binary in parallel.
-  fs::path dir = fs::temp_directory_path() /
-                 ("brdfshot_fit_stage_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+  fs::path dir =
+      fs::temp_directory_path() /
+      ("brdfshot_fit_stage_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
   FitStageOptions o;
   Scene() {
     fs::remove_all(dir);

@@ -13,8 +13,8 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
   const BasisDatabase db = LoadDatabase(o.database);
   r.seconds_database = sw.Seconds();
   BasisImages& b = r.images;
-  b.geometry = o.observations.empty() ? OrthographicSphere(o.sphere, o.margin_deg)
-                                      : Observations::Read(o.observations).geometry;
+  b.geometry =
+      o.observations.empty() ? OrthographicSphere(o.sphere, o.margin_deg) : Observations::Read(o.observations).geometry;
   RenderQuality quality = o.quality;
   if (o.error_target != 0) {
     QualitySearchOptions so;

@@ -29,7 +29,7 @@ struct SceneBasisOptions {
 struct SceneBasis {
   BasisImages images;
   std::optional<QualityChoice> search;  // when an error target was given
-  int levels = 0;                        // θ_o levels of the transport operator
+  int levels = 0;                       // θ_o levels of the transport operator
   int bases = 0;
   std::string probe_name, database_label;
   double seconds_database = 0, seconds_search = 0, seconds_operator = 0, seconds_apply = 0;

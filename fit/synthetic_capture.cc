@@ -258,6 +258,8 @@ void SyntheticCaptureTruth::Write(const std::string& path) const {
   WriteFileAtomic(path, [&](std::ostream& o) { o << text << "\n"; });
 }
 
-SyntheticCaptureTruth SyntheticCaptureTruth::Read(const std::string& path) { return FromJson(ReadJsonFile(path), path); }
+SyntheticCaptureTruth SyntheticCaptureTruth::Read(const std::string& path) {
+  return FromJson(ReadJsonFile(path), path);
+}
 
 }  // namespace brdfshot

@@ -50,9 +50,9 @@ struct SyntheticCaptureOptions {
   CameraModel camera;
   bool jpeg = true;  // else linear 16-bit PNG (camera.raw_bits)
   int jpeg_quality = 95;
-  double stops = 2;           // bracket step
+  double stops = 2;            // bracket step
   int probe_shot_width = 512;  // the probe's own bracket: a lat-long panorama this wide
-  int mirror_ball = 0;        // > 0: also ball.exr, a mirror ball this many px across
+  int mirror_ball = 0;         // > 0: also ball.exr, a mirror ball this many px across
   RenderQuality quality;
   // For the record: the material's name and the options that render it, the probe's file, the command.
   std::string material, material_args, probe_path, command;

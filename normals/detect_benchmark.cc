@@ -128,8 +128,8 @@ std::vector<DetectBenchmarkRow> RunDetectBenchmark(const DetectBenchmarkOptions&
       for (const auto& [name, sc] :
            {std::pair<const char*, const Scores*>{"ours", &ours}, {"HoughCircles alone", &hough}}) {
         auto mx = [](const std::vector<double>& v) { return v.empty() ? NAN : *std::max_element(v.begin(), v.end()); };
-        rows.push_back({size, perspective, name, Median(sc->centre), mx(sc->centre), Median(sc->radius),
-                        mx(sc->radius), sc->misses, o.seeds, Median(sc->seconds)});
+        rows.push_back({size, perspective, name, Median(sc->centre), mx(sc->centre), Median(sc->radius), mx(sc->radius),
+                        sc->misses, o.seeds, Median(sc->seconds)});
       }
     }
   }
@@ -142,10 +142,9 @@ std::string DetectBenchmarkTable(const std::vector<DetectBenchmarkRow>& rows) {
       "|\n|---|---|---|---|---|---|---|\n";
   char buf[512];
   for (const DetectBenchmarkRow& r : rows) {
-    std::snprintf(buf, sizeof buf, "| %dx%d | %s | %s | %.3f / %.3f | %.3f / %.3f | %d/%d | %.0f ms |\n",
-                  r.size.width, r.size.height, r.perspective ? "perspective" : "orthographic", r.method.c_str(),
-                  r.centre_median, r.centre_max, r.radius_median, r.radius_max, r.misses, r.scenes,
-                  1000 * r.seconds_median);
+    std::snprintf(buf, sizeof buf, "| %dx%d | %s | %s | %.3f / %.3f | %.3f / %.3f | %d/%d | %.0f ms |\n", r.size.width,
+                  r.size.height, r.perspective ? "perspective" : "orthographic", r.method.c_str(), r.centre_median,
+                  r.centre_max, r.radius_median, r.radius_max, r.misses, r.scenes, 1000 * r.seconds_median);
     t += buf;
   }
   return t;

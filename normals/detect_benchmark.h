@@ -35,7 +35,7 @@ struct DetectBenchmarkOptions {
 struct DetectBenchmarkRow {
   cv::Size size;
   bool perspective = false;
-  std::string method;  // "ours" | "HoughCircles alone"
+  std::string method;                                                           // "ours" | "HoughCircles alone"
   double centre_median = 0, centre_max = 0, radius_median = 0, radius_max = 0;  // px
   int misses = 0, scenes = 0;
   double seconds_median = 0;
