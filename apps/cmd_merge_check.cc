@@ -29,7 +29,7 @@ int MergeCheckMain(int argc, char** argv) {
   read.progress = true;
   const Bracket b = ReadBracket(ExpandBracketInputs(inputs), read);
   CheckBracketMeasured(b);
-  const std::string table = BracketCheckTable(CheckBracket(b.frames, b.exposure));
+  const std::string table = MergeCheckTable(CheckMerges(b.frames, b.exposure));
   std::printf(
       "%zu frames, %dx%d: each inner frame predicted from the others (its mid-tones, codes 32 … 223 in every "
       "channel)\n\n%s",

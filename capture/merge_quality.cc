@@ -147,10 +147,10 @@ double ChromaSpeckle(const cv::Mat& radiance, double dark_quantile, double dista
   return n ? static_cast<double>(far) / n : 0;
 }
 
-BracketCheck CheckBracket(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times) {
+MergeCheck CheckMerges(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times) {
   for (const cv::Mat& f : rgb8)
     if (f.type() != CV_8UC3) throw Error("checking a merge needs 8-bit frames (JPEG, PNG, TIFF), not RAW or 16-bit");
-  BracketCheck c;
+  MergeCheck c;
   c.ours = LeaveOneFrameOut(rgb8, times, OurMerge);
   c.opencv = LeaveOneFrameOut(rgb8, times, OpenCvDebevecMerge);
   Stopwatch sw;
@@ -162,7 +162,7 @@ BracketCheck CheckBracket(const std::vector<cv::Mat>& rgb8, const std::vector<do
   return c;
 }
 
-std::string BracketCheckTable(const BracketCheck& c) {
+std::string MergeCheckTable(const MergeCheck& c) {
   std::string t =
       "| left out | exposure | method | pixels | code error R / G / B (median) | chroma error (median) |\n"
       "|---|---|---|---|---|---|\n";

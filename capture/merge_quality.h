@@ -3,11 +3,12 @@
 // Leave one frame out: merge the bracket without frame k, predict frame k's
 // codes from the merged radiance through the method's own response and k's
 // exposure, and compare with the codes frame k really holds where it shows
-// mid-tones (codes 32 … 223 in every channel: a real frame's darkest codes are
-// its black level and noise, its brightest near clipping). A merge that is right everywhere predicts every frame to
-// within its noise; wrong weights, a wrong response or misregistration show as error. The chroma error compares the rg
-// chromaticity of the prediction with the frame's own (through the same response), so colour noise counts apart from
-// brightness.
+// mid-tones (codes 32 … 223 in every channel: a real frame's darkest codes
+// are its black level and noise, its brightest near clipping). A merge that
+// is right everywhere predicts every frame to within its noise; wrong
+// weights, a wrong response or misregistration show as error. The chroma
+// error compares the rg chromaticity of the prediction with the frame's own
+// (through the same response), so colour noise counts apart from brightness.
 //
 // Chroma speckle: isolated pixels of random saturated hue in the shadows,
 // where every frame is noisy — the share of the darkest pixels whose
@@ -56,17 +57,17 @@ double ChromaSpeckle(const cv::Mat& radiance, double dark_quantile = 0.2, double
 
 // A real bracket checked both ways, ours against OpenCV's Debevec merge: every
 // inner frame left out in turn, and the shadow speckle of each full merge.
-struct BracketCheck {
+struct MergeCheck {
   std::vector<LeftOutFrame> ours, opencv;
   double ours_speckle = 0, opencv_speckle = 0;
   double ours_seconds = 0, opencv_seconds = 0;  // the full merges
 };
 
 // 8-bit RGB frames only (a merge of RAW frames has no response to check).
-BracketCheck CheckBracket(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times);
+MergeCheck CheckMerges(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times);
 
 // The check as a markdown table: a row per left-out frame and method, then
 // the medians over frames and the speckle.
-std::string BracketCheckTable(const BracketCheck& check);
+std::string MergeCheckTable(const MergeCheck& check);
 
 }  // namespace brdfshot
