@@ -10,20 +10,19 @@
 namespace brdfshot {
 namespace {
 
+// FileError naming `path` when what it holds is for a photo of another size.
+void CheckSize(const std::string& path, cv::Size size, cv::Size photo, const std::string& photo_path) {
+  if (size != photo)
+    throw FileError(path, "is for a " + std::to_string(size.width) + "x" + std::to_string(size.height) + " photo, " +
+                              photo_path + " is " + std::to_string(photo.width) + "x" + std::to_string(photo.height));
+}
+
 // A grey mask at `path`, of the photo's size.
 cv::Mat ReadMask(const std::string& path, cv::Size photo, const std::string& photo_path) {
   const cv::Mat m = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (m.empty()) throw FileError(path, "cannot decode mask");
-  if (m.size() != photo)
-    throw FileError(path, "is for a " + std::to_string(m.cols) + "x" + std::to_string(m.rows) + " photo, " +
-                              photo_path + " is " + std::to_string(photo.width) + "x" + std::to_string(photo.height));
+  CheckSize(path, m.size(), photo, photo_path);
   return m;
-}
-
-void CheckSize(const std::string& path, cv::Size size, const cv::Mat& photo, const std::string& photo_path) {
-  if (size != photo.size())
-    throw FileError(path, "is for a " + std::to_string(size.width) + "x" + std::to_string(size.height) + " photo, " +
-                              photo_path + " is " + std::to_string(photo.cols) + "x" + std::to_string(photo.rows));
 }
 
 }  // namespace
@@ -44,11 +43,11 @@ Observations RemapPhoto(const RemapOptions& o) {
   PixelGeometry geometry;
   if (!o.sphere.empty()) {
     const SphereView view = SphereView::FromJson(ReadJsonFile(o.sphere), o.sphere);
-    CheckSize(o.sphere, cv::Size(view.width, view.height), photo, o.photo);
+    CheckSize(o.sphere, cv::Size(view.width, view.height), photo.size(), o.photo);
     geometry = SphereViewGeometry(view, rotation, o.sphere_mask, unreliable);
   } else {
     const cv::Mat normals = ReadNormalMap(o.normal_map);
-    CheckSize(o.normal_map, normals.size(), photo, o.photo);
+    CheckSize(o.normal_map, normals.size(), photo.size(), o.photo);
     const cv::Mat mask = o.object_mask.empty() ? cv::Mat() : ReadMask(o.object_mask, photo.size(), o.photo);
     NormalMapOptions map = o.normal_map_options;
     map.max_angle_deg = o.sphere_mask.max_angle_deg;

@@ -217,7 +217,7 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
   long unreliable = 0, noisy_pixels = 0;
   // Inverse-variance weights tell each estimate's noise; the other weightings do not.
   pool_noisy_chroma = pool_noisy_chroma && opt.pool_noisy_chroma && opt.weights == MergeWeights::kNoise && N > 1;
-  cv::Mat noisy = cv::Mat::zeros(frames[0].size(), CV_8U);
+  cv::Mat noisy = pool_noisy_chroma ? cv::Mat::zeros(frames[0].size(), CV_8U) : cv::Mat();
 #pragma omp parallel for schedule(static) reduction(+ : unreliable, noisy_pixels)
   for (int y = 0; y < rows; ++y) {
     cv::Vec3f* dst = out.radiance.ptr<cv::Vec3f>(y);
@@ -243,7 +243,8 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
         }
         if (den > 0) {
           dst[x][c] = static_cast<float>(num / den);
-          noisy_here = noisy_here || num <= 0 || 1 / std::sqrt(den) > kChromaNoise * (num / den);
+          if (pool_noisy_chroma)
+            noisy_here = noisy_here || num <= 0 || 1 / std::sqrt(den) > kChromaNoise * (num / den);
           continue;
         }
         // Unmeasured: the bound the frames imply — bright when the shortest
