@@ -158,6 +158,8 @@ cmp -s "$T/evm/eval.csv" "$T/evw/eval.csv" && pass=$((pass+1)) || { echo "FAIL m
 check eval-merge-missing 1 "shard 1 of 2 is missing" -- "$B" eval --merge "$T/ev/eval_shard_0_of_2.json" -o "$T/evm2"
 # merge-check on the same bracket: each inner frame predicted by ours and by OpenCV's merge.
 check merge-check 0 "| brdfshot | " -- "$B" merge-check "$T/fcap/photo"
+check merge-check-two 1 "needs a bracket of three frames or more" -- "$B" merge-check "$T/f1.png" "$T/f2.png" --times "$T/times.txt"
+check merge-check-help 0 "--times" -- "$B" merge-check --help
 check merge-align 0 "merged" -- "$B" merge "$T/fcap/photo" --align -o "$T/fpa.exr"
 grep -q '"homography_to_reference"' "$T/fpa.json" && pass=$((pass+1)) || { echo "FAIL merge --align records the homographies"; fail=$((fail+1)); }
 # A static bracket has (almost) no ghosts; the mask is written and named in the sidecar.
