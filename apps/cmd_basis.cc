@@ -46,7 +46,9 @@ int BasisMain(int argc, char** argv) {
        "choose the sample counts and probe width by measuring: the cheapest setting whose worst basis image "
        "of the test materials is within this relative RMSE of the converged reference on this scene (e.g. 0.01; "
        "0: use the quality options as given)")
-      ("error-pixels", po::value(&o.error_pixels)->default_value(o.error_pixels), "with --error-target: about this many pixels carry the error");
+      ("error-pixels", po::value(&o.error_pixels)->default_value(o.error_pixels), "with --error-target: about this many pixels carry the error")
+      ("shared", po::value(&o.shared_dir), "folder of basis images shared by captures: images of an identical scene "
+       "(probe, pixel geometry, quality, database) are taken from it, new ones stored in it");
   // clang-format on
   db.Add(desc);
   quality.Add(desc);
@@ -60,6 +62,12 @@ int BasisMain(int argc, char** argv) {
   const SceneBasis r = ComputeSceneBasis(o);
   if (r.search) PrintQualitySearch(*r.search, o.error_target);
   r.images.Write(out);
+  if (r.reused) {
+    std::printf("basis images: %zu pixels x %d bases under %s (%s), taken from %s\nwrote %s\n",
+                r.images.geometry.size(), r.bases, r.probe_name.c_str(), r.database_label.c_str(),
+                r.shared_file.c_str(), out.c_str());
+    return 0;
+  }
   std::printf(
       "basis images: %zu pixels x %d bases under %s (%s), %d theta_o levels\n"
       "time: database %.2f s, quality search %.2f s, operator %.2f s, apply %.2f s\nwrote %s\n",

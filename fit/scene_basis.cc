@@ -1,10 +1,50 @@
 #include "fit/scene_basis.h"
 
+#include <cstdio>
+#include <filesystem>
+
 #include "normals/observation.h"
 #include "util/check.h"
 #include "util/progress.h"
 
 namespace brdfshot {
+
+namespace {
+
+// What decides the images: the header of BasisImagesHeader with the quality
+// as asked for (the settings, or the error target the search starts from).
+nlohmann::json SceneKey(const SceneBasisOptions& o, const LatLongProbe& probe, const PixelGeometry& geometry,
+                        const BasisDatabase& db, const std::vector<std::string>& names) {
+  std::string quality = o.quality.Describe();
+  if (o.error_target != 0)
+    quality += " searched to error target " + std::to_string(o.error_target) + " on " +
+               std::to_string(o.error_pixels) + " pixels";
+  return BasisImagesHeader(probe, geometry, quality, db, names);
+}
+
+std::string SharedFileName(const std::string& dir, const nlohmann::json& key) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a over the key's text
+  for (unsigned char c : key.dump()) h = (h ^ c) * 1099511628211ull;
+  char name[32];
+  std::snprintf(name, sizeof name, "%016llx.bsbi", static_cast<unsigned long long>(h));
+  return (std::filesystem::path(dir) / name).string();
+}
+
+// The shared images of this scene, when a readable file there carries exactly
+// this key (a hash collision, a damaged or a foreign file is not trusted).
+bool ReadShared(const std::string& path, const nlohmann::json& key, BasisImages* images) {
+  if (!std::filesystem::exists(path)) return false;
+  try {
+    BasisImages b = BasisImages::Read(path);
+    if (!b.header.contains("scene_key") || b.header.at("scene_key") != key) return false;
+    *images = std::move(b);
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+}  // namespace
 
 SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
   SceneBasis r;
@@ -15,6 +55,25 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
   BasisImages& b = r.images;
   b.geometry =
       o.observations.empty() ? OrthographicSphere(o.sphere, o.margin_deg) : Observations::Read(o.observations).geometry;
+  std::vector<std::string> names;
+  for (int i = 0; i < db.num_bases(); ++i) names.push_back(db.BasisName(i));
+  r.bases = db.num_bases();
+  r.probe_name = probe.name();
+  r.database_label = db.label;
+  const nlohmann::json key = SceneKey(o, probe, b.geometry, db, names);
+  if (!o.shared_dir.empty()) r.shared_file = SharedFileName(o.shared_dir, key);
+  auto name_this_scene = [&] {
+    b.header["probe"] = o.probe;
+    b.header["geometry"] = o.observations.empty() ? "orthographic-sphere" : o.observations;
+    b.header["sphere"] = o.sphere;
+    b.header["margin_deg"] = o.margin_deg;
+  };
+  if (!r.shared_file.empty() && ReadShared(r.shared_file, key, &b)) {
+    r.reused = true;
+    name_this_scene();
+    return r;
+  }
+
   RenderQuality quality = o.quality;
   if (o.error_target != 0) {
     QualitySearchOptions so;
@@ -29,13 +88,8 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
   r.seconds_operator = sw.Seconds() - r.seconds_database - r.seconds_search;
   b.Y = t.Apply(db.B);
   r.seconds_apply = sw.Seconds() - r.seconds_database - r.seconds_search - r.seconds_operator;
-  std::vector<std::string> names;
-  for (int i = 0; i < db.num_bases(); ++i) names.push_back(db.BasisName(i));
   b.header = BasisImagesHeader(probe, b.geometry, quality.Describe(), db, names);
-  b.header["probe"] = o.probe;
-  b.header["geometry"] = o.observations.empty() ? "orthographic-sphere" : o.observations;
-  b.header["sphere"] = o.sphere;
-  b.header["margin_deg"] = o.margin_deg;
+  name_this_scene();
   if (r.search) {
     nlohmann::json s = {{"target", o.error_target},
                         {"reached", r.search->reached},
@@ -46,9 +100,11 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
     b.header["quality_search"] = s;
   }
   r.levels = t.levels();
-  r.bases = db.num_bases();
-  r.probe_name = probe.name();
-  r.database_label = db.label;
+  if (!r.shared_file.empty()) {
+    b.header["scene_key"] = key;
+    std::filesystem::create_directories(o.shared_dir);
+    b.Write(r.shared_file);  // atomic: captures rendering the same scene at once both write whole files
+  }
   return r;
 }
 

@@ -24,12 +24,19 @@ struct SceneBasisOptions {
   int error_pixels = QualitySearchOptions{}.pixels;
   DatabaseOptions database;
   bool progress = false;  // the quality search's reference renders, on stderr
+  // Non-empty: a folder of basis images shared by captures. Images of an
+  // identical scene (the same probe pixels, pixel geometry, quality or error
+  // target, and database) are taken from it instead of rendered; new ones are
+  // stored in it. A damaged or mismatched file there is re-rendered.
+  std::string shared_dir;
 };
 
 struct SceneBasis {
   BasisImages images;
   std::optional<QualityChoice> search;  // when an error target was given
-  int levels = 0;                       // θ_o levels of the transport operator
+  std::string shared_file;              // with shared_dir: the file of this scene there
+  bool reused = false;                  // taken from shared_file, not rendered
+  int levels = 0;                       // θ_o levels of the transport operator (0 when reused)
   int bases = 0;
   std::string probe_name, database_label;
   double seconds_database = 0, seconds_search = 0, seconds_operator = 0, seconds_apply = 0;
