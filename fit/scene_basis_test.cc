@@ -56,4 +56,44 @@ TEST(SceneBasis, ImagesAreLinearInTheProbeAndTheHeaderNamesTheScene) {
   EXPECT_FALSE(a.search.has_value());
 }
 
+// Captures of an identical scene share one rendering: the second is taken
+// from the shared folder, equal to what rendering gives; another probe is
+// rendered anew; a damaged shared file is not trusted but re-rendered.
+TEST(SceneBasis, IdenticalScenesShareOneRenderingAndADamagedShareIsRenderedAgain) {
+  const fs::path dir = fs::temp_directory_path() / "brdfshot_scene_basis_shared_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  cv::Mat sky(16, 32, CV_32FC3);
+  cv::randu(sky, cv::Scalar::all(0.1), cv::Scalar::all(2.0));
+  const std::string one = (dir / "one.exr").string(), two = (dir / "two.exr").string();
+  WriteExr(one, sky);
+  WriteExr(two, cv::Mat(sky * 0.5));
+  SceneBasisOptions o = DemoScene(one);
+  o.shared_dir = (dir / "shared").string();
+  const SceneBasis unshared = ComputeSceneBasis(DemoScene(one));
+  const SceneBasis first = ComputeSceneBasis(o), second = ComputeSceneBasis(o);
+  SceneBasisOptions other = o;
+  other.probe = two;
+  const SceneBasis under_two = ComputeSceneBasis(other);
+  std::filesystem::resize_file(first.shared_file, fs::file_size(first.shared_file) / 2);
+  const SceneBasis after_damage = ComputeSceneBasis(o), after_repair = ComputeSceneBasis(o);
+  fs::remove_all(dir);
+
+  EXPECT_FALSE(unshared.reused);
+  EXPECT_FALSE(first.reused);
+  EXPECT_TRUE(second.reused);
+  EXPECT_EQ(second.shared_file, first.shared_file);
+  EXPECT_FALSE(under_two.reused) << "another probe is another scene";
+  EXPECT_NE(under_two.shared_file, first.shared_file);
+  EXPECT_FALSE(after_damage.reused) << "a truncated shared file must be rendered again";
+  EXPECT_TRUE(after_repair.reused) << "and the rendering stored again";
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(first.images.Y[c], unshared.images.Y[c]) << "sharing changes no image, channel " << c;
+    EXPECT_EQ(second.images.Y[c], unshared.images.Y[c]) << "channel " << c;
+    EXPECT_EQ(after_damage.images.Y[c], unshared.images.Y[c]) << "channel " << c;
+  }
+  EXPECT_EQ(second.images.header.at("probe"), one);
+  EXPECT_EQ(second.images.header.at("quality"), unshared.images.header.at("quality"));
+}
+
 }  // namespace brdfshot
