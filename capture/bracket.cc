@@ -16,6 +16,7 @@
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_io.h"
+#include "util/jpeg_structure.h"
 #include "util/progress.h"
 
 namespace brdfshot {
@@ -76,6 +77,7 @@ Bracket ReadBracket(const std::vector<std::string>& files, const BracketReadOpti
       exif.focal_35mm = r.focal_35mm;
       b.records.push_back({{"file", f}, {"black", r.black}, {"white", r.white}, {"wb", r.wb}});
     } else {
+      if (IsJpegFile(f)) CheckJpegComplete(f);
       const cv::Mat bgr = cv::imread(f, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
       if (bgr.empty()) throw FileError(f, "cannot decode image");
       b.jpeg = b.jpeg || IsJpegFile(f);

@@ -41,6 +41,10 @@ row nan-probe "nan.pfm: contains NaN or Inf" "$T/x.exr" "$T/nan.pfm" -- "$B" ren
 row nan-photo "nan.pfm: contains NaN or Inf" "$T/s.json" "$T/nan.pfm" -- "$B" normals "$T/nan.pfm" -o "$T/s.json"
 printf 'BSHOTOB1' > "$T/short.bsobs"
 row truncated-obs "short.bsobs" "$T/b.bsbi" "$T/short.bsobs" -- "$B" basis $DB --probe "$PROBE" --obs "$T/short.bsobs" -o "$T/b.bsbi"
+# A JPEG frame cut short (an interrupted copy), which OpenCV alone decodes with grey rows.
+"$B" synth-capture --standin demo-clay --data "$DATA" --probe "$PROBE" --size 160x120 --radius 30 --probe-shot-width 64 -o "$T/cut" > /dev/null 2>&1
+head -c 2000 "$T/cut/photo/IMG_03.jpg" > "$T/IMG_03.part" && mv "$T/IMG_03.part" "$T/cut/photo/IMG_03.jpg"
+row truncated-jpeg "IMG_03.jpg: truncated" "$T/m.exr" "$T/cut/photo/IMG_03.jpg" -- "$B" merge "$T/cut/photo" -o "$T/m.exr"
 printf 'BSHOTBI1\377\377\377\377\377\377\377\177' > "$T/huge.bsbi"
 row bad-header-bsbi "huge.bsbi" "$T/fit" "$T/huge.bsbi" -- "$B" fit $DB --basis "$T/huge.bsbi" --photo "$PROBE" --classes "$T/huge.bsbi" -o "$T/fit"
 printf '1/4\n1/2\n' > "$T/times.txt"

@@ -19,6 +19,7 @@
 
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/jpeg_structure.h"
 
 namespace brdfshot {
 
@@ -31,6 +32,7 @@ std::string LowerExtension(const std::string& path) {
 cv::Mat ReadImageRgb(const std::string& path, const std::string& what) {
   const std::string ext = LowerExtension(path);
   if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") return ReadHdrImage(path);
+  if (ext == ".jpg" || ext == ".jpeg") CheckJpegComplete(path);
   const cv::Mat bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
   if (bgr.empty()) throw FileError(path, "cannot decode " + what);
   cv::Mat rgb;
