@@ -9,7 +9,9 @@
 // λ and class, weights unconstrained), "ours" (corrected M-step, fixed λ),
 // "paper" (M-step as printed), "lsq"
 // (argmin ‖Yw − y‖² over all remaining bases), "oracle" (projection of the true
-// BRDF onto the remaining bases in the cosine-weighted BRDF norm).
+// BRDF onto the remaining bases in the cosine-weighted BRDF norm),
+// "relit-oracle" (the remaining bases fitted to the true relit images under
+// the scoring probes: the floor of the relit error).
 //
 // Every metric is a quadratic form in d = w − e_m, so with the Gram matrices of
 // the basis images (per probe, per channel) and of the cosine-weighted table, a

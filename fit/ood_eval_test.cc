@@ -4,28 +4,11 @@
 
 #include <random>
 
+#include "fit/test_databases.h"
 #include "normals/sphere_geometry.h"
 
 namespace brdfshot {
 
-namespace {
-// Random images of n bases on a 24-px sphere: a quadratic in the normal plus a
-// little per-pixel texture, so every scene's images have full column rank.
-std::array<MatrixXfR, 3> Images(const PixelGeometry& g, int n, std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(0.1, 1.0);
-  std::array<MatrixXfR, 3> Y;
-  for (int c = 0; c < 3; ++c) {
-    Y[c].resize(static_cast<Eigen::Index>(g.size()), n);
-    for (int j = 0; j < n; ++j) {
-      const double a = u(rng), bx = u(rng) - .5, by = u(rng) - .5, q = u(rng);
-      for (size_t p = 0; p < g.size(); ++p)
-        Y[c](static_cast<Eigen::Index>(p), j) = static_cast<float>(a + bx * g.normal[p].x + by * g.normal[p].y +
-                                                                   q * g.normal[p].z * g.normal[p].x + 0.05 * u(rng));
-    }
-  }
-  return Y;
-}
-}  // namespace
 
 TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
   const PixelGeometry g = OrthographicSphere(24, 80);
@@ -42,7 +25,7 @@ TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
   std::vector<TargetScene> scenes;
   for (int s = 0; s <= S; ++s) {
     const bool scoring_only = s == S;
-    const auto Y = Images(g, n, rng);
+    const auto Y = RandomBasisImages(g, n, rng);
     std::array<MatrixXfR, 3> Yt;
     for (int c = 0; c < 3; ++c) {
       Yt[c] = MatrixXfR::Zero(Y[c].rows(), 3 * T);
