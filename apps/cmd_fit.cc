@@ -26,9 +26,10 @@ struct FitArgs {
   void Add(po::options_description& desc) {
     // clang-format off
     desc.add_options()
-        ("basis,b", po::value(&basis_path)->required(), "basis-image cache from 'brdfshot basis'")
-        ("photo", po::value(&photo_path), "linear HDR photo (EXR) aligned with the basis images' pixels")
-        ("obs", po::value(&obs_path), "observation file (from 'brdfshot remap') instead of --photo")
+        ("basis,b", po::value(&basis_path)->required(), "basis-image cache from 'brdfshot basis'; several "
+         "photos of the same material (other probes, or turned) are fitted jointly: comma-separated, one per photo")
+        ("photo", po::value(&photo_path), "linear HDR photo (EXR) aligned with the basis images' pixels (comma-separated: one per --basis)")
+        ("obs", po::value(&obs_path), "observation file (from 'brdfshot remap') instead of --photo (comma-separated: one per --basis)")
         ("classes,c", po::value(&classes_path)->required(), "class model from 'brdfshot cluster'")
         ("lambda-rule", po::value(&fo.lambda.rule)->default_value(fo.lambda.rule),
          "how the regularisation weight is chosen: cv (held-out wedges of the sphere), gcv, or fixed (--lambda)")
@@ -63,7 +64,10 @@ struct FitArgs {
     if (!(l.max_condition >= 1)) throw Error("--max-condition must be at least 1");
     if (!grid.empty()) l.grid = ParseLambdaGrid(grid);
     o.fit.constraint = ParseConstraint(constraint);
-    o.basis = basis_path, o.photo = photo_path, o.observations = obs_path, o.classes = classes_path, o.out = out;
+    o.basis = SplitList(basis_path), o.photo = SplitList(photo_path), o.observations = SplitList(obs_path);
+    if (std::max(o.photo.size(), o.observations.size()) != o.basis.size())
+      throw Error("fit: give one --photo or --obs file per --basis file (" + std::to_string(o.basis.size()) + ")");
+    o.classes = classes_path, o.out = out;
     o.database = db.ToOptions(false);
     o.preview_probes = ResolveProbes(previews, db.data);
     o.preview_quality = quality.q;

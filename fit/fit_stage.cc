@@ -3,32 +3,58 @@
 #include <filesystem>
 
 #include "fit/fit_previews.h"
+#include "fit/joint_photos.h"
 #include "util/check.h"
 
 namespace brdfshot {
 
+namespace {
+std::string Joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const std::string& x : v) s += (s.empty() ? "" : ",") + x;
+  return s;
+}
+}  // namespace
+
 FitStageResult RunFitStage(const FitStageOptions& o) {
-  const BasisImages basis = BasisImages::Read(o.basis);
+  const size_t P = o.basis.size();
+  BRDFSHOT_CHECK(P >= 1 && (o.photo.empty() != o.observations.empty()) &&
+                     std::max(o.photo.size(), o.observations.size()) == P,
+                 "one photo or observation file per basis-image file");
   const ClassModel model = ClassModel::Read(o.classes);
-  CheckModelMatchesBases(model, o.classes, basis.BasisNames());
-  const Eigen::MatrixXd y = ReadFitPixels(basis, o.basis, o.photo, o.observations);
-  const BasisDatabase tables = DatabaseOfBases(basis, o.database);
+  std::vector<BasisImages> bases;
+  std::vector<Eigen::MatrixXd> pixels;
+  for (size_t i = 0; i < P; ++i) {
+    bases.push_back(BasisImages::Read(o.basis[i]));
+    CheckModelMatchesBases(model, o.classes, bases[i].BasisNames());
+    pixels.push_back(ReadFitPixels(bases[i], o.basis[i], o.photo.empty() ? "" : o.photo[i],
+                                   o.observations.empty() ? "" : o.observations[i]));
+  }
+  const BasisDatabase tables = DatabaseOfBases(bases[0], o.database);
+  const JointPhotos joint = P > 1 ? StackPhotos(bases, pixels, o.basis, std::max(2, o.fit.folds)) : JointPhotos{};
 
   std::error_code ec;
   std::filesystem::create_directories(o.out, ec);
   if (!std::filesystem::is_directory(o.out, ec)) throw FileError(o.out, "cannot create output folder");
-  const PhotoFit fit = FitPhoto(basis, model, y, o.fit, &tables.B);
+  const PhotoFit fit = P > 1 ? FitPhoto(joint.basis, model, joint.y, o.fit, &tables.B, &joint.fold_of_pixel)
+                             : FitPhoto(bases[0], model, pixels[0], o.fit, &tables.B);
   FitStageResult r;
-  r.record = FitRecord::From(fit, basis, o.observations.empty() ? o.photo : o.observations);
+  r.record = FitRecord::From(fit, P > 1 ? joint.basis : bases[0], Joined(o.observations.empty() ? o.photo : o.observations));
   r.record.Write(o.out + "/fit.json");
   const MerlBrdf brdf = BrdfOfFit(r.record, tables, &r.label, &r.clamped);
   brdf.Write(o.out + "/brdf.binary");
 
-  WritePhotoVersusFit(basis, y, fit.reconstruction, o.out);
+  // The first photo beside its reconstruction (in its own scale).
+  const Eigen::Index first = static_cast<Eigen::Index>(bases[0].geometry.size());
+  const Eigen::MatrixXd reconstruction =
+      P > 1 ? Eigen::MatrixXd(fit.reconstruction.topRows(first) / joint.scale[0]) : fit.reconstruction;
+  WritePhotoVersusFit(bases[0], pixels[0], reconstruction, o.out);
   std::vector<LatLongProbe> others;
-  for (const std::string& p : o.preview_probes)
-    if (std::filesystem::path(p).stem() != basis.header.value("probe_name", "") && others.size() < 2)
-      others.push_back(LatLongProbe::Read(p));
+  for (const std::string& p : o.preview_probes) {
+    bool own = false;
+    for (const BasisImages& b : bases) own = own || std::filesystem::path(p).stem() == b.header.value("probe_name", "");
+    if (!own && others.size() < 2) others.push_back(LatLongProbe::Read(p));
+  }
   r.previews = WriteRelitPreviews(brdf, others, o.preview_quality, o.out);
   return r;
 }

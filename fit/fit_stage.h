@@ -14,9 +14,13 @@
 namespace brdfshot {
 
 struct FitStageOptions {
-  std::string basis;         // basis-image cache
-  std::string photo;         // linear HDR photo aligned with the basis images' pixels, or
-  std::string observations;  // the observation file they were rendered for
+  // One photo, or several of the same material fitted jointly (JointPhotos):
+  // per photo its basis-image cache and either a linear HDR photo aligned
+  // with the basis images' pixels or the observation file they were rendered
+  // for (`photo` or `observations` empty, the other as long as `basis`).
+  std::vector<std::string> basis;
+  std::vector<std::string> photo;
+  std::vector<std::string> observations;
   std::string classes;       // class model
   std::string out;           // output folder (made once the inputs have been read)
   PhotoFitOptions fit;

@@ -46,8 +46,8 @@ struct Scene {
     for (size_t i = 0; i < g.size(); ++i)
       for (int c = 0; c < 3; ++c) photo.at<cv::Vec3f>(g.y[i], g.x[i])[c] = basis.images.Y[c](i, 3 * 5 + c);
     WriteExr((dir / "photo.exr").string(), photo);
-    o.basis = (dir / "basis.bsbi").string();
-    o.photo = (dir / "photo.exr").string();
+    o.basis = {(dir / "basis.bsbi").string()};
+    o.photo = {(dir / "photo.exr").string()};
     o.classes = (dir / "classes.json").string();
     o.out = (dir / "fit").string();
     o.database = DemoStandins();

@@ -35,7 +35,7 @@ std::string ConstraintName(WeightConstraint::Kind kind) {
 }
 
 PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen::MatrixXd& y,
-                  const PhotoFitOptions& opt, const MatrixXfR* tables) {
+                  const PhotoFitOptions& opt, const MatrixXfR* tables, const std::vector<int>* folds_given) {
   BRDFSHOT_CHECK(static_cast<size_t>(y.rows()) == basis.geometry.size() && y.cols() == 3);
   BRDFSHOT_CHECK(model.label.size() == static_cast<size_t>(basis.Y[0].cols()));
   PhotoFit out;
@@ -46,7 +46,8 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
   // The folds serve the choice (rule cv) and the predicted error (every rule).
   const int folds = std::max(2, opt.folds);
-  const std::vector<int> fold_of_pixel = WedgeFolds(basis.geometry, folds);
+  const std::vector<int> fold_of_pixel = folds_given ? *folds_given : WedgeFolds(basis.geometry, folds);
+  BRDFSHOT_CHECK(fold_of_pixel.size() == basis.geometry.size());
   const CvSystem cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
   // Every class's constrained bins: they depend on the database, not the photo.
   std::vector<MatrixXdR> class_bins(classes.size());

@@ -47,8 +47,11 @@ void CheckModelMatchesBases(const ClassModel& model, const std::string& model_so
 // y: pixels × 3 in the order of basis.geometry. `tables`: the database's
 // tables for the basis images' bases (bins × bases), needed by the kBins
 // constraint only; Error when that constraint has none.
+// `fold_of_pixel`: the cross-validation wedges of every pixel (default: the
+// wedges of basis.geometry, one sphere; JointPhotos gives each photo its own).
 PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen::MatrixXd& y,
-                  const PhotoFitOptions& opt, const MatrixXfR* tables = nullptr);
+                  const PhotoFitOptions& opt, const MatrixXfR* tables = nullptr,
+                  const std::vector<int>* fold_of_pixel = nullptr);
 
 // "none", "non-negative weights", "non-negative bins" (fit.json's weights_constraint).
 std::string ConstraintName(WeightConstraint::Kind kind);
