@@ -19,7 +19,19 @@ nlohmann::json SceneKey(const SceneBasisOptions& o, const LatLongProbe& probe, c
   if (o.error_target != 0)
     quality += " searched to error target " + std::to_string(o.error_target) + " on " +
                std::to_string(o.error_pixels) + " pixels";
-  return BasisImagesHeader(probe, geometry, quality, db, names);
+  nlohmann::json key = BasisImagesHeader(probe, geometry, quality, db, names);
+  // A sample of the tables themselves (every 997th bin), so that a database
+  // whose tables change under the same names does not reuse images rendered
+  // from the old ones.
+  uint64_t h = 1469598103934665603ull;
+  for (Eigen::Index r = 0; r < db.B.rows(); r += 997)
+    for (Eigen::Index c = 0; c < db.B.cols(); ++c) {
+      const float v = db.B(r, c);
+      const auto* bytes = reinterpret_cast<const unsigned char*>(&v);
+      for (size_t k = 0; k < sizeof v; ++k) h = (h ^ bytes[k]) * 1099511628211ull;
+    }
+  key["tables_sample_hash"] = h;
+  return key;
 }
 
 std::string SharedFileName(const std::string& dir, const nlohmann::json& key) {
