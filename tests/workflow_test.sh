@@ -10,7 +10,7 @@
 # sphere.json, the merge sidecars, times.tsv and the report record.
 # local: the bad capture fails only its own jobs and names itself; once it is
 # mended, a re-run runs only its jobs; the sharded evaluation's table is one
-# process's.
+# process's. KEEP=1 leaves the temporary folder for a look.
 set -u
 B=$(realpath "$1"); SRC=$(realpath "$2"); MODE="$3"
 T=$(mktemp -d)
@@ -36,7 +36,8 @@ done
 mv "$T/out" "$T/make"
 
 # Every file of a capture's results equal to the Makefile's; JSON files equal
-# once their timings are dropped; times.tsv and report.md name the same stages.
+# once their timings are dropped; times.tsv names the same stages (report.md,
+# which quotes the timings, is not compared).
 same_results() {
   local m="$1" a="$T/make/results/$1" b="$T/out/results/$1" f n=0
   while read -r f; do
