@@ -1,7 +1,9 @@
 #include "fit/evaluation_shard.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+#include <utility>
 
 #include "util/atomic_file.h"
 #include "util/check.h"
@@ -11,19 +13,21 @@ namespace {
 
 constexpr const char* kShardFormat = "brdfshot-eval-shard-1";
 
+// A row's numbers by name: one list for the writer and the reader. A number
+// that does not apply is NaN (the BRDF error of a target outside the
+// database): JSON's null, read back as NaN.
+const std::pair<const char*, double LooRow::*> kRowNumbers[] = {
+    {"lambda", &LooRow::lambda},         {"predicted", &LooRow::predicted},
+    {"relit_mean", &LooRow::relit_mean}, {"relit_median", &LooRow::relit_median},
+    {"brdf", &LooRow::brdf},             {"insample", &LooRow::insample},
+    {"relit_directional", &LooRow::relit_directional}, {"negative_bins", &LooRow::negative_bins}};
+
 nlohmann::json RowJson(const LooRow& r) {
-  return {{"material", r.material},
-          {"probe", r.probe},
-          {"method", r.method},
-          {"chosen_class", r.chosen_class},
-          {"lambda", r.lambda},
-          {"predicted", r.predicted},
-          {"relit_mean", r.relit_mean},
-          {"relit_median", r.relit_median},
-          {"brdf", r.brdf},
-          {"insample", r.insample},
-          {"relit_directional", r.relit_directional},
-          {"negative_bins", r.negative_bins}};
+  nlohmann::json j = {
+      {"material", r.material}, {"probe", r.probe}, {"method", r.method}, {"chosen_class", r.chosen_class}};
+  for (const auto& [key, field] : kRowNumbers)
+    j[key] = std::isnan(r.*field) ? nlohmann::json(nullptr) : nlohmann::json(r.*field);
+  return j;
 }
 
 LooRow RowOf(const nlohmann::json& j) {
@@ -32,34 +36,20 @@ LooRow RowOf(const nlohmann::json& j) {
   r.probe = j.at("probe");
   r.method = j.at("method");
   r.chosen_class = j.at("chosen_class");
-  r.lambda = j.at("lambda");
-  r.predicted = j.at("predicted");
-  r.relit_mean = j.at("relit_mean");
-  r.relit_median = j.at("relit_median");
-  r.brdf = j.at("brdf");
-  r.insample = j.at("insample");
-  r.relit_directional = j.at("relit_directional");
-  r.negative_bins = j.at("negative_bins");
+  for (const auto& [key, field] : kRowNumbers) {
+    const nlohmann::json& v = j.at(key);
+    r.*field = v.is_null() ? std::nan("") : v.get<double>();
+  }
   return r;
 }
 
 // Everything but the rows, the shard's place and the timings: equal for the
 // shards of one run.
-nlohmann::json RunIdentity(const nlohmann::json& shard) {
-  nlohmann::json id = shard;
-  for (const char* k : {"rows", "shard_index", "seconds"}) id.erase(k);
-  return id;
-}
-
-}  // namespace
-
-nlohmann::json EvaluationShard::ToJson() const {
-  const Evaluation& e = evaluation;
-  nlohmann::json rows = nlohmann::json::array();
-  for (const LooRow& r : e.result.rows) rows.push_back(RowJson(r));
+nlohmann::json RunIdentity(const EvaluationShard& shard) {
+  const Evaluation& e = shard.evaluation;
   return {{"format", kShardFormat},
-          {"settings", settings},
-          {"fixed_lambda", fixed_lambda},
+          {"settings", shard.settings},
+          {"fixed_lambda", shard.fixed_lambda},
           {"database_label", e.database_label},
           {"targets_label", e.targets_label},
           {"grid", {e.grid.n_th, e.grid.n_td, e.grid.n_pd}},
@@ -72,17 +62,26 @@ nlohmann::json EvaluationShard::ToJson() const {
           {"groups", e.groups},
           {"group_of", e.group_of},
           {"lowest_basis_value", e.lowest_basis_value},
-          {"shard_index", e.shard_index},
-          {"shard_count", e.shard_count},
-          {"seconds",
-           {{"database", e.seconds_database},
-            {"grams", e.seconds_grams},
-            {"basis", e.seconds_basis},
-            {"fits", e.seconds_fits},
-            {"total", e.seconds_total},
-            {"cluster", e.result.seconds_cluster},
-            {"solve", e.result.seconds_solve}}},
-          {"rows", rows}};
+          {"shard_count", e.shard_count}};
+}
+
+}  // namespace
+
+nlohmann::json EvaluationShard::ToJson() const {
+  const Evaluation& e = evaluation;
+  nlohmann::json j = RunIdentity(*this);
+  nlohmann::json rows = nlohmann::json::array();
+  for (const LooRow& r : e.result.rows) rows.push_back(RowJson(r));
+  j["shard_index"] = e.shard_index;
+  j["seconds"] = {{"database", e.seconds_database},
+                  {"grams", e.seconds_grams},
+                  {"basis", e.seconds_basis},
+                  {"fits", e.seconds_fits},
+                  {"total", e.seconds_total},
+                  {"cluster", e.result.seconds_cluster},
+                  {"solve", e.result.seconds_solve}};
+  j["rows"] = std::move(rows);
+  return j;
 }
 
 EvaluationShard EvaluationShard::FromJson(const nlohmann::json& j, const std::string& source) {
@@ -140,11 +139,11 @@ EvaluationShard MergeEvaluationShards(const std::vector<EvaluationShard>& shards
   BRDFSHOT_CHECK(shards.size() == sources.size());
   if (shards.empty()) throw Error("eval --merge: no shards given");
   const int n = shards[0].evaluation.shard_count;
-  const nlohmann::json identity = RunIdentity(shards[0].ToJson());
+  const nlohmann::json identity = RunIdentity(shards[0]);
   std::vector<int> seen(n, -1);
   for (size_t i = 0; i < shards.size(); ++i) {
     const Evaluation& e = shards[i].evaluation;
-    if (RunIdentity(shards[i].ToJson()) != identity)
+    if (RunIdentity(shards[i]) != identity)
       throw FileError(sources[i], "is a shard of another run than " + sources[0] +
                                       " (database, materials, probes or settings differ)");
     if (seen[e.shard_index] >= 0)

@@ -88,4 +88,26 @@ TEST(EvaluationShard, MergedShardsGiveTheOneProcessTables) {
   }
 }
 
+// A number that does not apply (NaN: the BRDF error of a target outside the
+// database, set b) is written as null and read back as NaN, so shards of an
+// out-of-database run merge too.
+TEST(EvaluationShard, NumbersThatDoNotApplyRoundTripAsNaN) {
+  EvaluationShard s;
+  s.settings = "settings";
+  Evaluation& e = s.evaluation;
+  e.materials = {"m"};
+  e.group_of = {{"m", 0}};
+  LooRow row;
+  row.material = "m", row.probe = "p", row.method = "auto", row.relit_mean = 0.25;
+  row.brdf = std::nan("");
+  e.result.rows = {row};
+  const nlohmann::json j = nlohmann::json::parse(s.ToJson().dump());
+  EXPECT_TRUE(j.at("rows").at(0).at("brdf").is_null());
+  const EvaluationShard back = EvaluationShard::FromJson(j, "shard.json");
+  ASSERT_EQ(back.evaluation.result.rows.size(), 1u);
+  EXPECT_TRUE(std::isnan(back.evaluation.result.rows[0].brdf));
+  EXPECT_EQ(back.evaluation.result.rows[0].relit_mean, 0.25);
+  EXPECT_EQ(back.evaluation.result.rows[0].method, "auto");
+}
+
 }  // namespace brdfshot
