@@ -7,13 +7,6 @@
 #include "util/check.h"
 
 namespace brdfshot {
-namespace {
-
-int CodeAt(const cv::Mat& f, int y, int x, int c) {
-  return f.depth() == CV_8U ? f.at<cv::Vec3b>(y, x)[c] : f.at<cv::Vec3w>(y, x)[c];
-}
-
-}  // namespace
 
 std::vector<cv::Mat> DetectGhosts(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
                                   const ResponseCurve& response, int reference, const NoiseModel& noise,
@@ -47,7 +40,7 @@ std::vector<cv::Mat> DetectGhosts(const std::vector<cv::Mat>& frames, const std:
       for (int y = 0; y < ref.rows; ++y)
         for (int x = 0; x < ref.cols; ++x)
           for (int c = 0; c < 3; ++c) {
-            const int zr = CodeAt(ref, y, x, c), zj = CodeAt(f, y, x, c);
+            const int zr = FrameCode(ref, y, x, c), zj = FrameCode(f, y, x, c);
             if (zr <= zlo || zr >= zhi || zj <= zlo || zj >= zhi) continue;
             const double er = lin[c][zr] / tr, ej = lin[c][zj] / tj;
             const double d = std::abs(ej - er);

@@ -67,10 +67,6 @@ CodeTables MakeTables(int type, const ResponseCurve& response, const MergeOption
   return t;
 }
 
-int Code(const cv::Mat& f, int y, int x, int c) {
-  return f.type() == CV_8UC3 ? f.ptr<cv::Vec3b>(y)[x][c] : f.ptr<cv::Vec3w>(y)[x][c];
-}
-
 }  // namespace
 
 NoiseModel EstimateNoise(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
@@ -92,7 +88,7 @@ NoiseModel EstimateNoise(const std::vector<cv::Mat>& frames, const std::vector<d
     for (int y = 0; y < frames[0].rows; y += step)
       for (int x = 0; x < frames[0].cols; x += step)
         for (int c = 0; c < 3; ++c) {
-          const int zj = Code(frames[j], y, x, c), zk = Code(frames[k], y, x, c);
+          const int zj = FrameCode(frames[j], y, x, c), zk = FrameCode(frames[k], y, x, c);
           if (T.taper[zj] < 1 || T.taper[zk] < 1) continue;
           const double xj = T.lin[c][zj] / T.sat[c], xk = T.lin[c][zk] / T.sat[c];
           const double d = xj / tj - xk / tk;
@@ -213,7 +209,7 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
   out.radiance.create(frames[0].size(), CV_32FC3);
   out.mask = cv::Mat::zeros(frames[0].size(), CV_8U);
   const int rows = frames[0].rows, cols = frames[0].cols;
-  auto code = [&frames](int j, int y, int x, int c) { return Code(frames[j], y, x, c); };
+  auto code = [&frames](int j, int y, int x, int c) { return FrameCode(frames[j], y, x, c); };
   long unreliable = 0, noisy_pixels = 0;
   // Inverse-variance weights tell each estimate's noise; the other weightings do not.
   pool_noisy_chroma = pool_noisy_chroma && opt.pool_noisy_chroma && opt.weights == MergeWeights::kNoise && N > 1;

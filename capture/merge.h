@@ -29,6 +29,12 @@ struct NoiseModel {
   double read = 1.6e-7;  // (read noise / full well)²
 };
 
+// The code of channel c at pixel (x, y) of an 8- or 16-bit three-channel
+// frame (the merge's input; inline: it is read per pixel and channel).
+inline int FrameCode(const cv::Mat& frame, int y, int x, int c) {
+  return frame.type() == CV_8UC3 ? frame.ptr<cv::Vec3b>(y)[x][c] : frame.ptr<cv::Vec3w>(y)[x][c];
+}
+
 struct MergeOptions {
   double low = 0.02;   // fraction of the code range below which a code is near-black
   double high = 0.98;  // ...above which it is clipped

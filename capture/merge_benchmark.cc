@@ -161,11 +161,12 @@ cv::Mat PfstoolsMerge(const std::vector<cv::Mat>& frames, const std::vector<doub
 
 std::vector<MergeMethod> MergeMethods(const CameraModel& cam, bool jpeg) {
   const int reach = jpeg ? kJpegClipReach : -1;
-  auto ours = [reach](MergeWeights w) {
-    return [w, reach](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
+  auto ours = [reach](MergeWeights w, bool pool_noisy_chroma = true) {
+    return [w, reach, pool_noisy_chroma](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
       MergeOptions o;
       o.weights = w;
       o.clip_reach = reach;
+      o.pool_noisy_chroma = pool_noisy_chroma;
       return MergeBracket(f, t, RecoverResponse(f, t, 3, 200000, reach), o).radiance;
     };
   };
@@ -189,12 +190,7 @@ std::vector<MergeMethod> MergeMethods(const CameraModel& cam, bool jpeg) {
          return MergeBracket(f, t, RecoverResponse(f, t), o).radiance;
        }},
       {"ours-nopool", "brdfshot, every channel as merged (no colour pooling in noisy shadows)", false,
-       [reach](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
-         MergeOptions o;
-         o.clip_reach = reach;
-         o.pool_noisy_chroma = false;
-         return MergeBracket(f, t, RecoverResponse(f, t, 3, 200000, reach), o).radiance;
-       }},
+       ours(MergeWeights::kNoise, false)},
       {"ours-hat", "brdfshot, hat x t weights", false, ours(MergeWeights::kHat)},
       {"ours-flat", "brdfshot, flat-top x t weights", false, ours(MergeWeights::kFlat)},
       {"cv-debevec", "OpenCV CalibrateDebevec + MergeDebevec", false,
