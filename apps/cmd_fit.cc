@@ -1,5 +1,6 @@
 // brdfshot fit: the class-wise solve for one photo (paper sec. 4), with the
 // regularisation chosen from the photo's own pixels (fit/lambda_choice.h).
+#include <cmath>
 #include <cstdio>
 
 #include "apps/command.h"
@@ -101,6 +102,14 @@ int FitMain(int argc, char** argv) {
       "wrote %s/fit.json, brdf.binary, photo_vs_fit.png and %zu relit previews\n",
       record.relative_residual, 1000 * record.seconds_solve, record.seconds_factor, record.seconds_table_check,
       record.negative_bins_added, o.out.c_str(), r.previews.size());
+  if (record.lambert_ggx) {
+    const LambertGgxFit& g = *record.lambert_ggx;
+    std::printf(
+        "analytic baseline (Lambert + GGX, same pixels): relative residual %.4f; diffuse albedo %.3f %.3f %.3f, "
+        "specular F0 %.3f %.3f %.3f x %.3f, roughness %.3f (GGX alpha %g)\n",
+        g.relative_residual, g.diffuse_albedo[0], g.diffuse_albedo[1], g.diffuse_albedo[2], g.specular_f0[0],
+        g.specular_f0[1], g.specular_f0[2], g.specular_scale, std::sqrt(g.alpha), g.alpha);
+  }
   return 0;
 }
 

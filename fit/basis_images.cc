@@ -16,12 +16,22 @@ constexpr char kMagic[8] = {'B', 'S', 'H', 'O', 'T', 'B', 'I', '1'};
 
 std::vector<std::string> BasisImages::BasisNames() const { return header.at("bases").get<std::vector<std::string>>(); }
 
+LambertGgxLobes BasisImages::Lobes(const std::string& source) const {
+  if (!has_lobes() || !header.contains("lobes")) throw FileError(source, "holds no analytic lobe images");
+  LambertGgxLobes l = LambertGgxLobes::FromJson(header.at("lobes"), source);
+  if (l.columns() != lobes[0].cols()) throw FileError(source, "lobe description does not match its lobe images");
+  return l;
+}
+
 void BasisImages::Write(const std::string& path) const {
-  const size_t P = geometry.size(), n = Y[0].cols();
+  const size_t P = geometry.size(), n = Y[0].cols(), nl = lobes[0].cols();
   BRDFSHOT_CHECK(static_cast<size_t>(Y[0].rows()) == P);
+  BRDFSHOT_CHECK(nl == 0 || (static_cast<size_t>(lobes[0].rows()) == P && header.contains("lobes")),
+                 "lobe images need their description in the header");
   nlohmann::json h = header;
   h["pixels"] = P;
   h["num_bases"] = n;
+  if (nl > 0) h["num_lobes"] = nl;
   h["width"] = geometry.width;
   h["height"] = geometry.height;
   WriteTaggedFile(path, kMagic, h, [&](std::ostream& out) {
@@ -35,6 +45,7 @@ void BasisImages::Write(const std::string& path) const {
       out.write(reinterpret_cast<const char*>(v), sizeof v);
     }
     for (int c = 0; c < 3; ++c) out.write(reinterpret_cast<const char*>(Y[c].data()), P * n * 4);
+    for (int c = 0; c < 3 && nl > 0; ++c) out.write(reinterpret_cast<const char*>(lobes[c].data()), P * nl * 4);
   });
 }
 
@@ -44,17 +55,18 @@ BasisImages BasisImages::Parse(const std::string& bytes, const std::string& name
   TaggedHeader t = ParseTaggedHeader(bytes, kMagic, "basis-image file", name);
   BasisImages b;
   b.header = std::move(t.header);
-  uint64_t P, n;
+  uint64_t P, n, nl = 0;
   try {
     P = static_cast<uint64_t>(JsonInt(b.header, "pixels", 0, 1 << 28, name));
     n = static_cast<uint64_t>(JsonInt(b.header, "num_bases", 0, 100000, name));
+    if (b.header.contains("num_lobes")) nl = static_cast<uint64_t>(JsonInt(b.header, "num_lobes", 1, 10000, name));
     b.geometry.width = static_cast<int>(JsonInt(b.header, "width", 1, 1 << 20, name));
     b.geometry.height = static_cast<int>(JsonInt(b.header, "height", 1, 1 << 20, name));
     if (b.header.at("bases").size() != n) throw FileError(name, "basis names do not match num_bases");
   } catch (const nlohmann::json::exception& e) {
     throw FileError(name, std::string("incomplete header: ") + e.what());
   }
-  const uint64_t need = t.body_offset + P * 8 + P * 48 + 3 * P * n * 4;
+  const uint64_t need = t.body_offset + P * 8 + P * 48 + 3 * P * (n + nl) * 4;
   if (bytes.size() != need)
     throw FileError(name, "size " + std::to_string(bytes.size()) + " does not match header (needs " +
                               std::to_string(need) + "): truncated or corrupt");
@@ -81,6 +93,13 @@ BasisImages BasisImages::Parse(const std::string& bytes, const std::string& name
     p += P * n * 4;
     if (!b.Y[c].allFinite()) throw FileError(name, "basis images contain NaN or Inf");
   }
+  for (int c = 0; c < 3 && nl > 0; ++c) {
+    b.lobes[c].resize(P, nl);
+    std::memcpy(b.lobes[c].data(), p, P * nl * 4);
+    p += P * nl * 4;
+    if (!b.lobes[c].allFinite()) throw FileError(name, "lobe images contain NaN or Inf");
+  }
+  if (nl > 0) b.Lobes(name);  // the description must match the images
   return b;
 }
 

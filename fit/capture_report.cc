@@ -128,8 +128,17 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
                                     : "chosen by " + f.lambda_rule + " on the photo's pixels")
        << "); predicted relit error " << Fixed(f.predicted_relit_error, 4) << "\n- chosen class **" << f.chosen_class
        << "**, relative residual " << f.relative_residual << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary")
-       << "` (MERL format), weights `" << rel(fit_json)
-       << "`\n\n| class | bases | residual (Σ RGB) | condition (G) | solver |\n|---|---|---|---|---|\n";
+       << "` (MERL format), weights `" << rel(fit_json) << "`\n";
+    if (f.lambert_ggx) {
+      const LambertGgxFit& g = *f.lambert_ggx;
+      md << "- analytic baseline (Lambert + GGX on the same pixels, `lambert_ggx` in fit.json): relative residual "
+         << Fixed(g.relative_residual, 4) << "; diffuse albedo " << Fixed(g.diffuse_albedo[0], 3) << ", "
+         << Fixed(g.diffuse_albedo[1], 3) << ", " << Fixed(g.diffuse_albedo[2], 3) << "; specular F0 "
+         << Fixed(g.specular_f0[0], 3) << ", " << Fixed(g.specular_f0[1], 3) << ", " << Fixed(g.specular_f0[2], 3)
+         << " × " << Fixed(g.specular_scale, 3) << "; roughness " << Fixed(std::sqrt(g.alpha), 3) << " (GGX α "
+         << g.alpha << ")\n";
+    }
+    md << "\n| class | bases | residual (Σ RGB) | condition (G) | solver |\n|---|---|---|---|---|\n";
     std::vector<std::vector<double>> bars;
     std::vector<std::string> groups;
     for (size_t k = 0; k < f.classes.size(); ++k) {

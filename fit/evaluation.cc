@@ -110,6 +110,7 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     for (LatLongProbe& p : DirectionalScoringProbes()) scenes.push_back(std::move(p));
   std::vector<TargetScene> target_scenes;
   Stopwatch bw;
+  const MatrixXfR lobe_tables = opt.lambert_ggx ? in.lobes.Tables(base.grid) : MatrixXfR();
   for (size_t i = 0; i < scenes.size(); ++i) {
     Stopwatch ps;
     const bool scoring_only = i >= fitted;
@@ -121,9 +122,13 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     const std::array<MatrixXfR, 3> Y = t.Apply(base.B);
     s.f = FactorBasisImages(Y, !scoring_only);
     if (!scoring_only) s.fold_gram = FoldGrams(Y, fold_of_pixel, opt.folds);
-    if (ood)
-      target_scenes.push_back(scoring_only ? MakeTargetScene(s.f, Y, t.Apply(targets.B), one_fold, 1)
-                                           : MakeTargetScene(s.f, Y, t.Apply(targets.B), fold_of_pixel, opt.folds));
+    std::array<MatrixXfR, 3> Yt;
+    if (ood) {
+      Yt = t.Apply(targets.B);
+      target_scenes.push_back(scoring_only ? MakeTargetScene(s.f, Y, Yt, one_fold, 1)
+                                           : MakeTargetScene(s.f, Y, Yt, fold_of_pixel, opt.folds));
+    }
+    if (opt.lambert_ggx) in.lobe_scenes.push_back(MakeLobeScene(ood ? Yt : Y, t.Apply(lobe_tables)));
     (scoring_only ? ev.directional_probes : ev.probes).push_back(s.probe);
     in.scenes.push_back(std::move(s));
     if (opt.progress)

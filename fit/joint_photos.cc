@@ -24,6 +24,12 @@ JointPhotos StackPhotos(const std::vector<BasisImages>& bases, const std::vector
   for (const BasisImages& b : bases) total += b.geometry.size();
   const Eigen::Index n = first.Y[0].cols();
   for (int c = 0; c < 3; ++c) j.basis.Y[c].resize(static_cast<Eigen::Index>(total), n);
+  // The analytic baseline's lobes are stacked too where every photo has the same ones.
+  bool lobes = first.has_lobes();
+  for (const BasisImages& b : bases)
+    lobes = lobes && b.has_lobes() && b.header.value("lobes", nlohmann::json()) == first.header.value("lobes", nlohmann::json());
+  const Eigen::Index nl = lobes ? first.lobes[0].cols() : 0;
+  for (int c = 0; c < 3; ++c) j.basis.lobes[c].resize(static_cast<Eigen::Index>(total), nl);
   j.y.resize(static_cast<Eigen::Index>(total), 3);
   PixelGeometry& g = j.basis.geometry;
   g.width = first.geometry.width, g.height = first.geometry.height;
@@ -37,6 +43,7 @@ JointPhotos StackPhotos(const std::vector<BasisImages>& bases, const std::vector
     if (!(rms > 0)) throw FileError(basis_paths[i], "its photo's pixels are all zero: nothing to fit");
     const double s = 1.0 / rms;
     for (int c = 0; c < 3; ++c) j.basis.Y[c].middleRows(row, rows) = b.Y[c] * static_cast<float>(s);
+    for (int c = 0; c < 3 && lobes; ++c) j.basis.lobes[c].middleRows(row, rows) = b.lobes[c] * static_cast<float>(s);
     j.y.middleRows(row, rows) = pixels[i] * s;
     for (int f : WedgeFolds(b.geometry, folds)) j.fold_of_pixel.push_back(f);
     g.x.insert(g.x.end(), b.geometry.x.begin(), b.geometry.x.end());
@@ -52,6 +59,7 @@ JointPhotos StackPhotos(const std::vector<BasisImages>& bases, const std::vector
   j.basis.header = first.header;
   j.basis.header["probe"] = probes;
   j.basis.header["probe_name"] = probe_names;
+  if (!lobes) j.basis.header.erase("lobes");
   return j;
 }
 

@@ -25,6 +25,7 @@
 
 #include "fit/class_model.h"
 #include "fit/lambda_choice.h"
+#include "fit/lambert_ggx.h"
 #include "fit/solver.h"
 #include "util/stats.h"
 
@@ -41,6 +42,19 @@ struct SceneFactors {  // one probe's basis images, factored
   size_t pixels = 0;
 };
 
+// One scene's analytic lobe images (fit/lambert_ggx.h) against the images of
+// the scored materials: all the Lambert + GGX baseline needs to fit a
+// material under the scene and to score a fit there.
+struct LobeScene {
+  std::array<Eigen::MatrixXd, 3> gram;   // L_cᵀ L_c
+  std::array<Eigen::MatrixXd, 3> cross;  // materials × lobes: row m is (material m's channel-c image)ᵀ L_c
+  std::array<Eigen::VectorXd, 3> self;   // ‖material m's channel-c image‖²
+  LobeSystem System(int m) const;
+};
+// `images`: pixels × 3M per channel, column 3m + c material m's channel c
+// (the layout of the basis images); `L`: the lobe images of the same pixels.
+LobeScene MakeLobeScene(const std::array<MatrixXfR, 3>& images, const std::array<MatrixXfR, 3>& L);
+
 struct LooInputs {
   std::vector<std::string> materials;  // n/3 names
   Eigen::MatrixXd gram;                // BᵀB (clustering)
@@ -53,6 +67,10 @@ struct LooInputs {
   // kBins (rows of the tables; disjoint from bin_sample, so the count
   // measures the bins between them).
   MatrixXfR constraint_sample;
+  // The Lambert + GGX baseline: one LobeScene per scene (parallel to
+  // `scenes`, over the scored materials); empty: not run.
+  LambertGgxLobes lobes;
+  std::vector<LobeScene> lobe_scenes;
 };
 
 // Rows offset, offset + stride, … of the tables `B` (bins × bases).
@@ -103,6 +121,12 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
 // Sets rows[i].negative_bins = NegativeBinShare(bins, methods[i].w) for every
 // method, reading the bins once for all of them.
 void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& methods, LooRow* rows);
+
+// The "lambert-ggx" row of scored material m fitted under scene a
+// (in.lobe_scenes): relit and in-sample errors as for every method; no BRDF
+// error (NaN: the analytic lobes have no Gram matrix with the database's
+// tables); no negative bin (non-negative weights on non-negative lobes).
+LooRow LambertGgxRow(const LooInputs& in, int a, int m, const std::string& material);
 
 // Fills row's relit_mean / relit_median (over the fitted scenes b ≠ a) and
 // relit_directional (over the scoring-only scenes) from error(b), the fit's

@@ -170,6 +170,9 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         per_target[t].push_back(row);
       }
       SetNegativeBins(bases.bin_sample, methods, &per_target[t][per_target[t].size() - methods.size()]);
+      // Before the floor (relit-oracle), which the tables and plots keep last.
+      if (!bases.lobe_scenes.empty())
+        per_target[t].insert(per_target[t].end() - 1, LambertGgxRow(bases, a, t, targets[t]));
     }
     progress.Step();
   }

@@ -98,6 +98,10 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   out.reconstruction.resize(y.rows(), 3);
   for (int c = 0; c < 3; ++c) out.reconstruction.col(c) = basis.Y[c].cast<double>() * w.col(c);
   out.relative_residual = std::sqrt((out.reconstruction - y).squaredNorm() / std::max(1e-300, y.squaredNorm()));
+  if (basis.has_lobes()) {
+    out.lobes = basis.Lobes("basis images");
+    out.lambert_ggx = FitLambertGgx(out.lobes, MakeLobeSystem(basis.lobes, y));
+  }
   return out;
 }
 
@@ -127,6 +131,8 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.seconds_solve = f.seconds_solve;
   r.seconds_table_check = f.seconds_table_check;
   r.negative_bins_added = f.negative_bins_added;
+  r.lambert_ggx = f.lambert_ggx;
+  r.lobes = f.lobes;
   return r;
 }
 
@@ -178,6 +184,7 @@ nlohmann::json FitRecord::ToJson() const {
     j["weights"].push_back({weights(i, 0), weights(i, 1), weights(i, 2)});
   j["negative_bins_constrained_after_check"] = negative_bins_added;
   j["seconds"] = {{"factor", seconds_factor}, {"solve", seconds_solve}, {"table_check", seconds_table_check}};
+  if (lambert_ggx) j["lambert_ggx"] = lambert_ggx->ToJson(lobes);
   return j;
 }
 
@@ -223,6 +230,10 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     r.seconds_solve = j.at("seconds").at("solve");
     r.seconds_table_check = j.at("seconds").at("table_check");
     r.negative_bins_added = j.at("negative_bins_constrained_after_check");
+    if (j.contains("lambert_ggx")) {
+      r.lobes = LambertGgxLobes::FromJson(j.at("lambert_ggx").at("model"), source);
+      r.lambert_ggx = LambertGgxFit::FromJson(j.at("lambert_ggx"), r.lobes, source);
+    }
     return r;
   } catch (const nlohmann::json::exception& e) {
     throw FileError(source, std::string("not a fit.json: ") + e.what());

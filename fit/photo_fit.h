@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "fit/database.h"
 #include "fit/class_model.h"
 #include "fit/lambda_choice.h"
+#include "fit/lambert_ggx.h"
 #include "fit/solver.h"
 
 namespace brdfshot {
@@ -37,6 +39,10 @@ struct PhotoFit {
   double seconds_solve = 0;        // the photo's projections, the λ search and the solve
   double seconds_table_check = 0;  // kBins: the whole table checked for bins below zero (and re-solves)
   int negative_bins_added = 0;     // kBins: bins off the sample found below zero and constrained too
+  // The analytic baseline fitted to the same pixels, when the basis images
+  // hold its lobes (fit/lambert_ggx.h).
+  std::optional<LambertGgxFit> lambert_ggx;
+  LambertGgxLobes lobes;
 };
 
 // Checks that `model` was built for `basis`'s bases (same names, same order);
@@ -78,6 +84,8 @@ struct FitRecord {
   Eigen::MatrixXd weights;  // bases × 3
   double seconds_factor = 0, seconds_solve = 0, seconds_table_check = 0;
   int negative_bins_added = 0;
+  std::optional<LambertGgxFit> lambert_ggx;  // as PhotoFit::lambert_ggx
+  LambertGgxLobes lobes;
 
   static FitRecord From(const PhotoFit& f, const BasisImages& basis, const std::string& photo);
   nlohmann::json ToJson() const;

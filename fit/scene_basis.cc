@@ -31,6 +31,7 @@ nlohmann::json SceneKey(const SceneBasisOptions& o, const LatLongProbe& probe, c
       for (size_t k = 0; k < sizeof v; ++k) h = (h ^ bytes[k]) * 1099511628211ull;
     }
   key["tables_sample_hash"] = h;
+  key["lobes"] = LambertGgxLobes{}.ToJson();
   return key;
 }
 
@@ -99,8 +100,11 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
   const TransportOperator t = TransportOperator::Build(b.geometry, probe, db.grid, quality);
   r.seconds_operator = sw.Seconds() - r.seconds_database - r.seconds_search;
   b.Y = t.Apply(db.B);
+  const LambertGgxLobes lobes;
+  b.lobes = t.Apply(lobes.Tables(db.grid));
   r.seconds_apply = sw.Seconds() - r.seconds_database - r.seconds_search - r.seconds_operator;
   b.header = BasisImagesHeader(probe, b.geometry, quality.Describe(), db, names);
+  b.header["lobes"] = lobes.ToJson();
   name_this_scene();
   if (r.search) {
     nlohmann::json s = {{"target", o.error_target},

@@ -1,5 +1,6 @@
 // The basis stage: the basis images of one scene — every database basis
-// rendered under the probe at the scene's pixels — cached for every later fit.
+// rendered under the probe at the scene's pixels, and the analytic baseline's
+// lobes (fit/lambert_ggx.h) — cached for every later fit.
 // The rendering quality is given, or chosen by measuring this scene against a
 // converged reference (fit/quality_search.h).
 #pragma once

@@ -5,6 +5,8 @@
 #include <filesystem>
 
 #include "fit/test_databases.h"
+#include "util/atomic_file.h"
+#include "util/check.h"
 #include "util/image_io.h"
 
 namespace brdfshot {
@@ -54,6 +56,43 @@ TEST(SceneBasis, ImagesAreLinearInTheProbeAndTheHeaderNamesTheScene) {
   EXPECT_EQ(h.at("bases").size(), static_cast<size_t>(a.bases));
   EXPECT_EQ(h.at("geometry"), "orthographic-sphere");
   EXPECT_FALSE(a.search.has_value());
+  // The analytic baseline's lobes are rendered with them, as linear.
+  ASSERT_TRUE(a.images.has_lobes());
+  EXPECT_EQ(a.images.lobes[0].cols(), a.images.Lobes("a").columns());
+  for (int c = 0; c < 3; ++c)
+    EXPECT_LT((b.images.lobes[c] - 2 * a.images.lobes[c]).norm(), 1e-5 * b.images.lobes[c].norm()) << "channel " << c;
+}
+
+// The file keeps the lobe images beside the basis images; one without lobes
+// still reads; a file cut short is refused with its name.
+TEST(SceneBasis, LobeImagesRoundTripThroughTheFileAndACutFileIsRefused) {
+  const fs::path dir = fs::temp_directory_path() / "brdfshot_scene_basis_lobes_test";
+  fs::create_directories(dir);
+  cv::Mat sky(16, 32, CV_32FC3);
+  cv::randu(sky, cv::Scalar::all(0.1), cv::Scalar::all(2.0));
+  const std::string probe = (dir / "sky.exr").string(), file = (dir / "b.bsbi").string();
+  WriteExr(probe, sky);
+  BasisImages a = ComputeSceneBasis(DemoScene(probe)).images;
+  a.Write(file);
+  const BasisImages back = BasisImages::Read(file);
+  ASSERT_TRUE(back.has_lobes());
+  EXPECT_TRUE(back.Lobes(file) == LambertGgxLobes{});
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(back.Y[c], a.Y[c]);
+    EXPECT_EQ(back.lobes[c], a.lobes[c]);
+  }
+  const std::string bytes = ReadFileBytes(file);
+  try {
+    BasisImages::Parse(bytes.substr(0, bytes.size() - 4), file);
+    ADD_FAILURE() << "a cut file was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+  }
+  for (auto& L : a.lobes) L.resize(L.rows(), 0);
+  a.header.erase("lobes");
+  a.Write(file);
+  EXPECT_FALSE(BasisImages::Read(file).has_lobes());
+  fs::remove_all(dir);
 }
 
 // Captures of an identical scene share one rendering: the second is taken
