@@ -49,6 +49,7 @@ struct EvalArgs {
         ("targets-data", po::value(&eo.targets_data), "data folder of --targets (default: --data)")
         ("classes", po::value(&loo.gmm.classes)->default_value(loo.gmm.classes), "Gaussians K")
         ("dims", po::value(&loo.gmm.dims)->default_value(loo.gmm.dims), "SVD coordinates N")
+        ("class-features", po::value(&eo.class_features)->default_value(eo.class_features), "what the classes of ours and auto are built on: linear, cos or log-cos tables")
         ("shard", po::value(&shard), "i/n: run only every n-th material, from the i-th (0-based), and write <out>/eval_shard_i_of_n.json")
         ("merge", po::value(&merge), "comma-separated shard files of one run: write the tables of all of them");
     // clang-format on
@@ -82,7 +83,8 @@ struct EvalArgs {
       << "x" << ev.grid.n_td << "x" << ev.grid.n_pd << "); sphere " << eo.sphere << " px (" << ev.pixels
       << " pixels, margin " << eo.margin << "°); quality " << eo.quality.Describe() << "; auto: λ by "
       << eo.loo.choice.rule << " over " << eo.folds << " wedges, constraint: " << ConstraintName(eo.loo.constraint)
-      << "; ours and paper: λ = " << eo.loo.lambda << "; N = " << eo.loo.gmm.dims << ", K = " << eo.loo.gmm.classes;
+      << "; ours and paper: λ = " << eo.loo.lambda << "; N = " << eo.loo.gmm.dims << ", K = " << eo.loo.gmm.classes << " on the " << eo.class_features
+      << " tables";
     return s.str();
   }
 };

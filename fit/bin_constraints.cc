@@ -9,19 +9,47 @@
 
 namespace brdfshot {
 
-MatrixXdR TableRows(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& rows) {
-  MatrixXdR out(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(members.size()));
-  for (size_t i = 0; i < rows.size(); ++i)
-    for (size_t k = 0; k < members.size(); ++k)
-      out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = tables(rows[i], members[k]);
-  return out;
+BinRows::BinRows(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& rows) {
+  Append(tables, members, rows);
 }
 
-MatrixXdR ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride) {
+BinRows BinRows::EveryNth(const MatrixXfR& tables, const std::vector<int>& members, int stride) {
   BRDFSHOT_CHECK(stride >= 1);
   std::vector<int> rows;
   for (Eigen::Index i = 0; i < tables.rows(); i += stride) rows.push_back(static_cast<int>(i));
-  return TableRows(tables, members, rows);
+  return BinRows(tables, members, rows);
+}
+
+void BinRows::Append(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& table_rows) {
+  BRDFSHOT_CHECK(a_.size() == 0 || a_.cols() == static_cast<Eigen::Index>(members.size()),
+                 "BinRows: appended rows over other members");
+  for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables.cols(), "BinRows: member out of range");
+  const Eigen::Index old = a_.rows(), k = static_cast<Eigen::Index>(members.size());
+  a_.conservativeResize(old + static_cast<Eigen::Index>(table_rows.size()), k);
+  for (size_t i = 0; i < table_rows.size(); ++i) {
+    BRDFSHOT_CHECK(table_rows[i] >= 0 && table_rows[i] < tables.rows(), "BinRows: row out of range");
+    const float* row = tables.row(table_rows[i]).data();
+    float* out = a_.row(old + static_cast<Eigen::Index>(i)).data();
+    for (Eigen::Index j = 0; j < k; ++j) out[j] = row[members[j]];
+  }
+}
+
+Eigen::MatrixXd BinRows::Times(const Eigen::MatrixXd& w) const {
+  BRDFSHOT_CHECK(w.rows() == cols());
+  Eigen::MatrixXd out(rows(), w.cols());
+  const MatrixXdR wt = w.transpose();  // each column of w contiguous, for the dot products
+  Eigen::RowVectorXd row(cols());
+  for (Eigen::Index i = 0; i < rows(); ++i) {
+    row = a_.row(i).cast<double>();
+    for (Eigen::Index j = 0; j < w.cols(); ++j) out(i, j) = row.dot(wt.row(j));
+  }
+  return out;
+}
+
+Eigen::MatrixXd BinRows::Rows(const std::vector<int>& which) const {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(which.size()), cols());
+  for (size_t i = 0; i < which.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = a_.row(which[i]).cast<double>();
+  return out;
 }
 
 std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ) {
@@ -47,8 +75,8 @@ std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& m
 }
 
 BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::MatrixXd()>& inverse,
-                                                  const Eigen::VectorXd& w0, const MatrixXdR& A, double tolerance,
-                                                  int max_rounds, int bins_per_round) {
+                                                  const Eigen::VectorXd& w0, const BinRows& A, double tolerance,
+                                                  int max_rounds, int bins_per_round, const Eigen::VectorXd* given_v0) {
   const Eigen::Index k = w0.size();
   BRDFSHOT_CHECK(A.cols() == k, "ConstrainToNonNegativeBins: sizes differ");
   BinConstrainedSolution s;
@@ -57,7 +85,8 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
     s.complete = true;
     return s;
   }
-  const Eigen::VectorXd v0 = A * w0;
+  const Eigen::VectorXd v0 = given_v0 ? *given_v0 : Eigen::VectorXd(A.Times(w0));
+  BRDFSHOT_CHECK(v0.size() == A.rows());
   const double threshold = -tolerance * std::max(v0.maxCoeff(), 1e-300);
   std::vector<int> rows;  // the bins with a multiplier so far
   std::vector<char> in(A.rows(), 0);
@@ -80,13 +109,13 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
       BRDFSHOT_CHECK(K.rows() == k && K.cols() == k, "ConstrainToNonNegativeBins: the inverse's size differs");
     }
     // The dual over the bins so far: Q = A_C K A_Cᵀ, its linear term A_C w₀.
-    const Eigen::MatrixXd Ac = A(rows, Eigen::all);
+    const Eigen::MatrixXd Ac = A.Rows(rows);
     const Eigen::MatrixXd KAt = K * Ac.transpose();
     const Eigen::MatrixXd Q = Ac * KAt;
     const NonNegativeResult mu = SolveNonNegative(Q, -(Ac * w0));
     s.w = w0 + KAt * mu.x;
     s.active = static_cast<int>((mu.x.array() > 0).count());
-    values = A * s.w;
+    values = A.Times(s.w);  // one column
   }
   // The active bins sit at zero only up to the dual's rounding (~1e-11 of
   // w₀'s scale), which is a visible "negative" wherever the whole fit is near
@@ -96,7 +125,7 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
   double t = 0;
   for (Eigen::Index i = 0; i < values.size(); ++i)
     if (values[i] < 0) {
-      const double lift = A.row(i).sum();  // only where a bin is below zero: most fits have none
+      const double lift = A.RowSum(i);  // only where a bin is below zero: most fits have none
       if (lift > 0) t = std::max(t, -values[i] / lift);
     }
   if (t > 0 && t * std::sqrt(static_cast<double>(k)) <= 1e-6 * std::max(w0.norm(), 1e-300)) s.w.array() += 2 * t;

@@ -32,15 +32,39 @@ struct BinConstrainedSolution {
   bool complete = false;  // no sampled bin outside the active set below −tolerance (false: the round cap was hit)
 };
 
+// The A of the constraint: rows `rows` of float `tables` (bins × bases),
+// restricted to columns `members` in their order, kept in float. Products
+// accumulate in double; they stream the whole of A, so A is as small as the
+// values allow (half a copy in double) and the three channels' products are
+// one pass (Times of a k × 3 matrix).
+class BinRows {
+ public:
+  BinRows() = default;
+  BinRows(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& rows);
+  // Every `stride`-th row of the tables.
+  static BinRows EveryNth(const MatrixXfR& tables, const std::vector<int>& members, int stride);
+
+  Eigen::Index rows() const { return a_.rows(); }
+  Eigen::Index cols() const { return a_.cols(); }
+  Eigen::MatrixXd Times(const Eigen::MatrixXd& w) const;      // A w, for every column of w
+  Eigen::MatrixXd Rows(const std::vector<int>& which) const;  // A(which, :)
+  double RowSum(Eigen::Index i) const { return a_.row(i).cast<double>().sum(); }
+  void Append(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& table_rows);
+
+ private:
+  MatrixXfR a_;
+};
+
 // inverse(): K = (G_JJ + λ_j I)⁺ (k × k), asked for only when some bin is
-// below zero (it costs a k³ product, most fits never need it); w0: the unconstrained solution (k); A: the
-// tables' rows at the sampled bins, restricted to the class's members in
-// order (bins × k). A bin counts as negative below −tolerance × the largest
-// value of A w₀ (an active bin sits at zero up to rounding).
+// below zero (it costs a k³ product, most fits never need it); w0: the
+// unconstrained solution (k); A: the tables at the sampled bins, over the
+// class's members (bins × k). A bin counts as negative below −tolerance × the
+// largest value of A w₀ (an active bin sits at zero up to rounding).
+// `v0`: A w₀ when the caller has it (one pass for three channels), else computed.
 BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::MatrixXd()>& inverse,
-                                                  const Eigen::VectorXd& w0, const MatrixXdR& A,
+                                                  const Eigen::VectorXd& w0, const BinRows& A,
                                                   double tolerance = 1e-9, int max_rounds = 30,
-                                                  int bins_per_round = 256);
+                                                  int bins_per_round = 256, const Eigen::VectorXd* v0 = nullptr);
 
 // A value Σ_i w_i b_i counts as negative below −kNegativeBinTolerance ·
 // Σ_i |w_i b_i|: beyond the float rounding of the sum, at which a bin the
@@ -50,11 +74,5 @@ constexpr double kNegativeBinTolerance = 1e-5;
 // The bins (rows of `tables`) where the BRDF of weights wJ (members × 3, over
 // columns `members`) is negative in any channel: the whole table, checked.
 std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ);
-
-// The rows of `tables` every `stride`-th bin, restricted to columns `members`,
-// in double: the A of ConstrainToNonNegativeBins.
-MatrixXdR ConstraintBins(const MatrixXfR& tables, const std::vector<int>& members, int stride);
-// The same for the listed rows.
-MatrixXdR TableRows(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& rows);
 
 }  // namespace brdfshot

@@ -10,6 +10,18 @@
 namespace brdfshot {
 namespace {
 
+// A dense A as the constraint reads it: a float table and all its rows.
+struct Table {
+  MatrixXfR values;
+  BinRows rows;
+  explicit Table(const Eigen::MatrixXd& A) : values(A.cast<float>()) {
+    std::vector<int> all_columns(static_cast<size_t>(values.cols()));
+    for (size_t i = 0; i < all_columns.size(); ++i) all_columns[i] = static_cast<int>(i);
+    rows = BinRows::EveryNth(values, all_columns, 1);
+  }
+  Eigen::MatrixXd dense() const { return values.cast<double>(); }
+};
+
 double Objective(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, const Eigen::VectorXd& w) {
   return 0.5 * w.dot(H * w) - b.dot(w);
 }
@@ -43,14 +55,14 @@ double BruteForceOptimum(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, con
 TEST(ConstrainToNonNegativeBins, LeavesAFeasibleSolutionAlone) {
   const Eigen::MatrixXd H = Eigen::MatrixXd::Identity(3, 3);
   const Eigen::VectorXd w0 = Eigen::Vector3d(1, 2, 0.5);
-  const Eigen::MatrixXd A = (Eigen::MatrixXd(2, 3) << 1, 0, 0, 0.5, 0.5, 1).finished();
+  const Table A((Eigen::MatrixXd(2, 3) << 1, 0, 0, 0.5, 0.5, 1).finished());
   bool asked = false;
   const BinConstrainedSolution s = ConstrainToNonNegativeBins(
       [&] {
         asked = true;
         return H;
       },
-      w0, A);
+      w0, A.rows);
   EXPECT_FALSE(asked) << "no bin below zero: the inverse is never needed";
   EXPECT_TRUE(s.complete);
   EXPECT_EQ(s.active, 0);
@@ -70,12 +82,14 @@ TEST(ConstrainToNonNegativeBins, MatchesEnumerationOfActiveSets) {
     H.diagonal().array() += 0.05;
     Eigen::VectorXd b(k);
     for (int i = 0; i < k; ++i) b[i] = g(rng);
-    // Non-negative "tables", as every database's are.
-    Eigen::MatrixXd A(m, k);
-    for (Eigen::Index i = 0; i < A.size(); ++i) A.data()[i] = u(rng);
+    // Non-negative "tables", as every database's are (float, as they are kept).
+    Eigen::MatrixXd random(m, k);
+    for (Eigen::Index i = 0; i < random.size(); ++i) random.data()[i] = u(rng);
+    const Table table(random);
+    const Eigen::MatrixXd A = table.dense();
     const Eigen::MatrixXd K = H.inverse();
     const Eigen::VectorXd w0 = K * b;
-    const BinConstrainedSolution s = ConstrainToNonNegativeBins([&] { return K; }, w0, A, 1e-12);
+    const BinConstrainedSolution s = ConstrainToNonNegativeBins([&] { return K; }, w0, table.rows, 1e-12);
     ASSERT_TRUE(s.complete) << trial;
     EXPECT_GE((A * s.w).minCoeff(), -1e-9 * (A * w0).cwiseAbs().maxCoeff()) << trial;
     const double best = BruteForceOptimum(H, b, A);
@@ -89,13 +103,13 @@ TEST(ConstrainToNonNegativeBins, OppositeBinsPinTheWeightAtZero) {
   // Bins w and −w can only both be ≥ 0 at w = 0, whatever the data want.
   const Eigen::MatrixXd K = Eigen::MatrixXd::Identity(1, 1);
   const Eigen::VectorXd w0 = Eigen::VectorXd::Constant(1, 3.0);
-  const Eigen::MatrixXd A = (Eigen::MatrixXd(2, 1) << 1, -1).finished();
-  const BinConstrainedSolution s = ConstrainToNonNegativeBins([&] { return K; }, w0, A);
+  const Table A((Eigen::MatrixXd(2, 1) << 1, -1).finished());
+  const BinConstrainedSolution s = ConstrainToNonNegativeBins([&] { return K; }, w0, A.rows);
   EXPECT_TRUE(s.complete);
   EXPECT_NEAR(s.w[0], 0.0, 1e-12);
 }
 
-TEST(ConstraintBins, TakesEveryStrideThRowOfTheMembers) {
+TEST(BinRows, ReadsEveryStrideThRowOfTheMembersInPlace) {
   MatrixXfR tables(5, 3);
   // clang-format off
   tables << 0, 1, 2,
@@ -104,9 +118,16 @@ TEST(ConstraintBins, TakesEveryStrideThRowOfTheMembers) {
             9, 10, 11,
             12, 13, 14;
   // clang-format on
-  const Eigen::MatrixXd A = ConstraintBins(tables, {2, 0}, 2);
+  BinRows A = BinRows::EveryNth(tables, {2, 0}, 2);
   ASSERT_EQ(A.rows(), 3);
-  EXPECT_EQ(A, (Eigen::MatrixXd(3, 2) << 2, 0, 8, 6, 14, 12).finished());
+  ASSERT_EQ(A.cols(), 2);
+  EXPECT_EQ(A.Rows({0, 1, 2}), (Eigen::MatrixXd(3, 2) << 2, 0, 8, 6, 14, 12).finished());
+  EXPECT_EQ(A.Times(Eigen::Vector2d(1, -1)), Eigen::MatrixXd(Eigen::Vector3d(2, 2, 2)));
+  EXPECT_EQ(A.Times((Eigen::MatrixXd(2, 2) << 1, 0, -1, 1).finished()),
+            (Eigen::MatrixXd(3, 2) << 2, 0, 2, 6, 2, 12).finished());
+  EXPECT_EQ(A.RowSum(2), 26.0);
+  A.Append(tables, {2, 0}, {3});
+  EXPECT_EQ(A.Rows({3}), (Eigen::MatrixXd(1, 2) << 11, 9).finished());
 }
 
 }  // namespace

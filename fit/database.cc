@@ -332,7 +332,7 @@ DatabaseGrams LoadDatabaseGrams(const DatabaseOptions& opt) {
   return from_tables(ComputeTables(src, opt.grid, keep, opt.progress));
 }
 
-Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* w) {
+Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* w, TableMapping mapping) {
   const Eigen::Index n = B.cols();
   constexpr Eigen::Index kBlock = 8192;
   const Eigen::Index blocks = (B.rows() + kBlock - 1) / kBlock;
@@ -347,6 +347,7 @@ Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* w) {
       blk = B.middleRows(r0, rows);
       if (w)
         for (Eigen::Index r = 0; r < rows; ++r) blk.row(r) *= (*w)[r0 + r];
+      if (mapping == TableMapping::kLog) blk = blk.array().max(0.0f).log1p().matrix();
       // Within a block float is exact enough (≤ 8192 terms); blocks add in double.
       Eigen::MatrixXf g = Eigen::MatrixXf::Zero(n, n);
       g.selfadjointView<Eigen::Lower>().rankUpdate(blk.transpose());

@@ -75,7 +75,13 @@ std::vector<int> SelectMaterials(const std::vector<std::string>& names, const Da
 
 // BᵀB (or Bᵀ diag(w²) B) in double, accumulated over float row blocks so the
 // 1.46M-row matrix is streamed once.
-Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* row_weight = nullptr);
+// With kLog, the Gram matrix of log(1 + w·B) instead (entries below zero
+// taken as zero): the mapping data-driven BRDF work applies before a PCA, so
+// that a specular peak of thousands per steradian does not outweigh the rest
+// of the table.
+enum class TableMapping { kLinear, kLog };
+Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* row_weight = nullptr,
+                           TableMapping mapping = TableMapping::kLinear);
 
 // cos θ_i cos θ_o per bin (0 where not measurable): the weight of the BRDF metric.
 std::vector<float> CosineWeights(const MerlGrid& grid);

@@ -46,7 +46,7 @@ void GroupMaterials(const BasisDatabase& base, const BasisDatabase& targets, con
     return;
   }
   ev->group_kind = "class";
-  const ClassModel full = BuildClassModel(in.gram, gmm);
+  const ClassModel full = BuildClassModel(in.class_gram.size() ? in.class_gram : in.gram, gmm);
   ev->class_sizes = ClassSizes(full);
   for (int k = 0; k < full.classes(); ++k) ev->groups.push_back("class " + std::to_string(k));
   for (int m = 0; m < base.num_materials(); ++m) {
@@ -77,6 +77,14 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     DatabaseGrams grams = LoadDatabaseGrams(gopt);
     in.gram = std::move(grams.gram);
     in.gram_cos = std::move(grams.gram_cos);
+  }
+  if (opt.class_features == "cos") {
+    in.class_gram = in.gram_cos;
+  } else if (opt.class_features == "log-cos") {
+    const std::vector<float> cosw = CosineWeights(base.grid);
+    in.class_gram = GramMatrix(base.B, &cosw, TableMapping::kLog);
+  } else if (opt.class_features != "linear") {
+    throw Error("unknown class features '" + opt.class_features + "' (" + ClassFeaturesHelp() + ")");
   }
   if (opt.loo.constraint == WeightConstraint::Kind::kBins)
     in.constraint_sample = SampleBins(base.B, opt.constraint_stride);

@@ -32,6 +32,7 @@ struct EvaluationOptions {
   // aliasing with the grid's dimensions.
   int constraint_stride = 31;
   bool count_negative_bins = true;
+  std::string class_features = "linear";  // ClassFeaturesHelp()
   bool lambert_ggx = true;  // the analytic baseline (fit/lambert_ggx.h, default lobes)
   bool progress = false;
 };

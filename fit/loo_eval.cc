@@ -106,6 +106,8 @@ std::vector<double> NegativeBinShares(const MatrixXfR& bins, const Eigen::Matrix
 
 double NegativeBinShare(const MatrixXfR& bins, const Eigen::MatrixXd& w) { return NegativeBinShares(bins, w)[0]; }
 
+std::string ClassFeaturesHelp() { return "linear, cos or log-cos"; }
+
 LobeSystem LobeScene::System(int m) const {
   LobeSystem s;
   for (int c = 0; c < 3; ++c) s.gram[c] = gram[c], s.z[c] = cross[c].row(m).transpose(), s.norm2[c] = self[c][m];
@@ -215,7 +217,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     GmmOptions ours_opt = opt.gmm, paper_opt = opt.gmm;
     ours_opt.paper_mstep = false;
     paper_opt.paper_mstep = true;
-    const auto ours_members = MembersInFull(BuildClassModel(gk, ours_opt), keep);
+    const Eigen::MatrixXd ck = in.class_gram.size() ? Eigen::MatrixXd(in.class_gram(keep, keep)) : gk;
+    const auto ours_members = MembersInFull(BuildClassModel(ck, ours_opt), keep);
     const auto auto_members = CandidateMembers(ours_members, keep, opt.choice);
     const auto paper_members = MembersInFull(BuildClassModel(gk, paper_opt), keep);
     const Eigen::MatrixXd oracle = OracleWeights(in.gram_cos, keep, m);
@@ -225,7 +228,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     SolveOptions so;
     so.lambda = opt.lambda;
     const std::array<const Eigen::MatrixXd*, 3> gcos = {&in.gram_cos, &in.gram_cos, &in.gram_cos};
-    std::map<int, MatrixXdR> constraint_bins;  // per chosen class of material m
+    std::map<int, BinRows> constraint_bins;  // per chosen class of material m
     for (int a = 0; a < S; ++a) {
       if (in.scenes[a].scoring_only) continue;
       const auto& fa = in.scenes[a].f;
@@ -251,7 +254,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       if (opt.constraint == WeightConstraint::Kind::kBins) {
         auto it = constraint_bins.find(choice.chosen_class);
         if (it == constraint_bins.end())
-          it = constraint_bins.emplace(choice.chosen_class, ConstraintBins(in.constraint_sample, picked.members, 1))
+          it = constraint_bins.emplace(choice.chosen_class, BinRows::EveryNth(in.constraint_sample, picked.members, 1))
                    .first;
         constraint.bins = &it->second;
       }

@@ -55,9 +55,16 @@ struct LobeScene {
 // (the layout of the basis images); `L`: the lobe images of the same pixels.
 LobeScene MakeLobeScene(const std::array<MatrixXfR, 3>& images, const std::array<MatrixXfR, 3>& L);
 
+// What the class model of "ours" and "auto" is built on: the Gram matrix of
+// the tables as they are ("linear", the paper's), cosine-weighted ("cos":
+// ρ cos θ_i cos θ_o), or log-mapped after the cosine weight ("log-cos":
+// log(1 + ρ cos θ_i cos θ_o)). "paper" always clusters the linear tables.
+std::string ClassFeaturesHelp();
+
 struct LooInputs {
   std::vector<std::string> materials;  // n/3 names
-  Eigen::MatrixXd gram;                // BᵀB (clustering)
+  Eigen::MatrixXd gram;                // BᵀB
+  Eigen::MatrixXd class_gram;          // what "ours" and "auto" cluster (ClassFeatures); empty: gram
   Eigen::MatrixXd gram_cos;            // Bᵀ diag(cos²) B (BRDF metric)
   std::vector<SceneFactors> scenes;    // one per probe
   // A sample of the database's bins (rows of its tables, SampleBins): every

@@ -87,7 +87,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
   GmmOptions ours_opt = opt.gmm, paper_opt = opt.gmm;
   ours_opt.paper_mstep = false;
   paper_opt.paper_mstep = true;
-  const auto ours_members = Members(BuildClassModel(bases.gram, ours_opt));
+  const auto ours_members = Members(BuildClassModel(bases.class_gram.size() ? bases.class_gram : bases.gram, ours_opt));
   const auto paper_members = Members(BuildClassModel(bases.gram, paper_opt));
   std::vector<int> all(n);
   for (int i = 0; i < n; ++i) all[i] = i;
@@ -112,10 +112,10 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
     }
   }
   // The constrained bins of each candidate class (the same members in every scene).
-  std::vector<MatrixXdR> class_bins(auto_members.size());
+  std::vector<BinRows> class_bins(auto_members.size());
   if (opt.constraint == WeightConstraint::Kind::kBins)
     for (size_t j = 0; j < auto_members.size(); ++j)
-      class_bins[j] = ConstraintBins(bases.constraint_sample, auto_members[j], 1);
+      class_bins[j] = BinRows::EveryNth(bases.constraint_sample, auto_members[j], 1);
   LooResult r;
   r.seconds_cluster = sw.Seconds();
 

@@ -50,11 +50,11 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   BRDFSHOT_CHECK(fold_of_pixel.size() == basis.geometry.size());
   const CvSystem cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
   // Every class's constrained bins: they depend on the database, not the photo.
-  std::vector<MatrixXdR> class_bins(classes.size());
+  std::vector<BinRows> class_bins(classes.size());
   if (opt.constraint == WeightConstraint::Kind::kBins) {
     if (!tables) throw Error("the non-negative-bin constraint needs the database's tables");
     for (size_t j = 0; j < classes.size(); ++j)
-      class_bins[j] = ConstraintBins(*tables, classes[j].members, std::max(1, opt.constraint_stride));
+      class_bins[j] = BinRows::EveryNth(*tables, classes[j].members, std::max(1, opt.constraint_stride));
   }
   out.seconds_factor = sw.Seconds();
 
@@ -68,7 +68,7 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   out.fit.chosen = out.choice.chosen_class;
   WeightConstraint constraint;
   constraint.kind = opt.constraint;
-  MatrixXdR& bins = class_bins[out.fit.chosen];
+  BinRows& bins = class_bins[out.fit.chosen];
   if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &bins;
   if (out.fit.classes[out.fit.chosen].path != "normal" && opt.constraint != WeightConstraint::Kind::kWeights) {
     // Too ill-conditioned for the normal equations (λ near 0): solve the chosen
@@ -88,9 +88,7 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
         NegativeBins(*tables, chosen.members, out.fit.weights()(chosen.members, Eigen::all));
     out.negative_bins_added += static_cast<int>(negative.size());
     if (negative.empty()) break;
-    const Eigen::Index old = bins.rows();
-    bins.conservativeResize(old + static_cast<Eigen::Index>(negative.size()), Eigen::NoChange);
-    bins.bottomRows(static_cast<Eigen::Index>(negative.size())) = TableRows(*tables, chosen.members, negative);
+    bins.Append(*tables, chosen.members, negative);
     out.fit.classes[out.fit.chosen] = SolveClass(f, chosen, obs, out.choice.lambda, constraint);
   }
   out.seconds_table_check = check.Seconds();

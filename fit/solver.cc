@@ -172,32 +172,44 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
   const double cj = static_cast<double>(J.size());
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(J.size(), 1.0 / cj);
   int worst = 0;  // 0 normal, 1 normal-truncated, 2 qr
+  Eigen::MatrixXd W(J.size(), 3);  // the class's weights per channel
+  std::array<double, 3> lj{};
   for (int c = 0; c < 3; ++c) {
-    const double lj = lambda * obs.norm2[c] / cj;
+    lj[c] = lambda * obs.norm2[c] / cj;
     const Eigen::VectorXd& e = cls.e[c];
     const double emax = e.size() ? e[e.size() - 1] : 0, emin = e.size() ? e[0] : 0;
-    const double kappa = emin + lj > 0 ? (emax + lj) / (emin + lj) : std::numeric_limits<double>::infinity();
+    const double kappa =
+        emin + lj[c] > 0 ? (emax + lj[c]) / (emin + lj[c]) : std::numeric_limits<double>::infinity();
     s.condition[c] = std::sqrt(kappa);
-    s.lambda_j[c] = lj;
+    s.lambda_j[c] = lj[c];
     const Eigen::VectorXd zJ = obs.z[c](J);
-    Eigen::VectorXd w;
     if (constraint.kind == WeightConstraint::Kind::kWeights) {
       // ‖Y_J w − y‖² + λ_j‖w − μ'‖² = wᵀ(G_JJ + λ_j I)w − 2wᵀ(z_J + λ_j μ') + const.
       Eigen::MatrixXd H = cls.gram[c];
-      H.diagonal().array() += lj;
-      w = SolveNonNegative(H, zJ + lj * prior).x;
+      H.diagonal().array() += lj[c];
+      W.col(c) = SolveNonNegative(H, zJ + lj[c] * prior).x;
     } else if (kappa > kMaxNormalCondition && f[c].has_qr() && obs.z_qr[c].size()) {
-      w = SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], lj, prior);
+      W.col(c) = SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], lj[c], prior);
       worst = std::max(worst, 2);
     } else {
-      w = SolveFromSpectrum(cls, c, zJ, lj);
+      W.col(c) = SolveFromSpectrum(cls, c, zJ, lj[c]);
       if (kappa > kMaxNormalCondition) worst = std::max(worst, 1);
     }
-    if (constraint.kind == WeightConstraint::Kind::kBins) {
-      BRDFSHOT_CHECK(constraint.bins && constraint.bins->cols() == static_cast<Eigen::Index>(J.size()),
-                     "the constraint's bins must be restricted to the class's members");
-      w = ConstrainToNonNegativeBins([&] { return SpectrumInverse(cls, c, lj); }, w, *constraint.bins).w;
+  }
+  if (constraint.kind == WeightConstraint::Kind::kBins) {
+    BRDFSHOT_CHECK(constraint.bins && constraint.bins->cols() == static_cast<Eigen::Index>(J.size()),
+                   "the constraint's bins must be restricted to the class's members");
+    const Eigen::MatrixXd V0 = constraint.bins->Times(W);  // the three channels in one pass over the bins
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::VectorXd v0 = V0.col(c);
+      W.col(c) = ConstrainToNonNegativeBins([&] { return SpectrumInverse(cls, c, lj[c]); }, W.col(c),
+                                            *constraint.bins, 1e-9, 30, 256, &v0)
+                     .w;
     }
+  }
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::VectorXd zJ = obs.z[c](J);
+    const Eigen::VectorXd w = W.col(c);
     // ‖Y_J w − y‖² = wᵀG_JJ w − 2 wᵀz_J + ‖y‖²: accurate to ~1e-16 ‖y‖², ample
     // for comparing classes.
     s.residual += std::max(0.0, w.dot(cls.gram[c] * w) - 2 * w.dot(zJ) + obs.norm2[c]);

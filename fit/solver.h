@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "fit/bin_constraints.h"
 #include "util/eigen_types.h"
 
 namespace brdfshot {
@@ -118,7 +119,7 @@ struct WeightConstraint {
   Kind kind = Kind::kNone;
   // kBins: the tables' rows at the sampled bins, restricted to the class's
   // members in their order (bins × members).
-  const MatrixXdR* bins = nullptr;
+  const BinRows* bins = nullptr;
 };
 
 // One class's solve over R, G, B at weight λ (λ_j = λ‖y_c‖²/c_j per channel),

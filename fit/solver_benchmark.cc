@@ -133,8 +133,8 @@ void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
     const float v = u(rng);
     return v * v * v * v;
   });
-  std::vector<MatrixXdR> class_bins;
-  for (const auto& J : p.members) class_bins.push_back(ConstraintBins(tables, J, 1));
+  std::vector<BinRows> class_bins;
+  for (const auto& J : p.members) class_bins.push_back(BinRows::EveryNth(tables, J, 1));
   int negative_before = 0;
   for (auto _ : state) {
     const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
@@ -147,7 +147,8 @@ void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
     if (negative_before == 0) {
       const ClassSolution free = SolveClass(f, classes[ch.chosen_class], obs, ch.lambda);
       const Eigen::MatrixXd wJ = free.weights(classes[ch.chosen_class].members, Eigen::all);
-      negative_before = static_cast<int>(((class_bins[ch.chosen_class] * wJ).array() < 0).count());
+      for (int c = 0; c < 3; ++c)
+        negative_before += static_cast<int>((class_bins[ch.chosen_class].Times(wJ.col(c)).array() < 0).count());
     }
   }
   state.counters["bin_channels_below_zero_unconstrained"] = negative_before;

@@ -1,4 +1,4 @@
-// The basis-image cache (.bsbi): tagged header + geometry + Y.
+// The basis-image cache (.bsbi): tagged header + geometry + Y (+ the analytic lobes L).
 #include "fit/basis_images.h"
 #include "tests/fuzz/fuzz_input.h"
 #include "util/check.h"
