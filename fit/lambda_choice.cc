@@ -70,20 +70,25 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
   cv.held_class.resize(K);
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < K; ++k) {
-    std::array<ChannelFactor, 3> train;
-    for (int c = 0; c < 3; ++c) train[c].gram = f[c].gram - cv.held_gram[k][c];
-    cv.train[k] = FactorClasses(train, members);
+    cv.train[k].resize(members.size());
     cv.held_class[k].resize(members.size());
-    for (size_t j = 0; j < members.size(); ++j)
-      for (int c = 0; c < 3; ++c) cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
+    for (size_t j = 0; j < members.size(); ++j) {
+      FoldClassFactor& t = cv.train[k][j];
+      t.members = members[j];
+      for (int c = 0; c < 3; ++c) {
+        cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
+        t.gram[c] = f[c].gram(members[j], members[j]) - cv.held_class[k][j][c];
+        if (!members[j].empty()) t.tri[c].compute(t.gram[c]);
+      }
+    }
   }
   return cv;
 }
 
 namespace {
-// Held-out squared error of class `cls` (fold spectrum) for every λ of `grid`,
+// Held-out squared error of class `cls` (its fold factor) for every λ of `grid`,
 // added into `score`.
-void AddFoldScores(const ClassSpectrum& cls, const std::array<Eigen::MatrixXd, 3>& held_class_gram,
+void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd, 3>& held_class_gram,
                    const Observation& all, const Observation& held, const std::vector<double>& grid,
                    std::vector<double>* score) {
   const std::vector<int>& J = cls.members;
@@ -94,15 +99,33 @@ void AddFoldScores(const ClassSpectrum& cls, const std::array<Eigen::MatrixXd, 3
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd z_train = (all.z[c] - held.z[c])(J);
     const double n2_train = all.norm2[c] - held.norm2[c];
-    const Eigen::VectorXd& e = cls.e[c];
-    const Eigen::VectorXd b = cls.V[c].transpose() * (z_train - cls.gram[c] * prior);
-    const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
-    Eigen::MatrixXd D(k, L);
+    const Eigen::Tridiagonalization<Eigen::MatrixXd>& tri = cls.tri[c];
+    const Eigen::VectorXd b = tri.matrixQ().adjoint() * (z_train - cls.gram[c] * prior);
+    const Eigen::VectorXd d = tri.diagonal();
+    const Eigen::VectorXd e = k > 1 ? Eigen::VectorXd(tri.subDiagonal()) : Eigen::VectorXd();
+    // (T + λ_j I) x = b by the LDLᵀ recurrence of a tridiagonal matrix. Where
+    // a pivot is not positive (a singular system at λ = 0) the fold scores
+    // the prior alone: the eigendecomposition's pseudo-inverse would keep
+    // only part of the data there, and such a λ is beyond any condition
+    // bound, so it is never chosen either way.
+    const double floor = 1e-13 * std::max(d.cwiseAbs().maxCoeff(), 1e-300);
+    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(k, L);
+    Eigen::VectorXd piv(k), y(k);
     for (Eigen::Index l = 0; l < L; ++l) {
       const double lj = grid[l] * n2_train / cj;
-      for (Eigen::Index i = 0; i < k; ++i) D(i, l) = e[i] + lj > floor ? b[i] / (e[i] + lj) : 0.0;
+      bool ok = true;
+      for (Eigen::Index i = 0; i < k && ok; ++i) {
+        const double off = i > 0 ? e[i - 1] : 0.0;
+        piv[i] = d[i] + lj - (i > 0 ? off * off / piv[i - 1] : 0.0);
+        ok = piv[i] > floor;
+        y[i] = b[i] - (i > 0 ? off * y[i - 1] / piv[i - 1] : 0.0);
+      }
+      if (!ok) continue;
+      for (Eigen::Index i = k - 1; i >= 0; --i)
+        X(i, l) = (y[i] - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv[i];
     }
-    const Eigen::MatrixXd W = (cls.V[c] * D).colwise() + prior;  // k × L, all λ at once
+    Eigen::MatrixXd W = tri.matrixQ() * X;  // k × L, all λ at once
+    W.colwise() += prior;
     const Eigen::MatrixXd GW = held_class_gram[c] * W;
     const Eigen::VectorXd zh = held.z[c](J);
     for (Eigen::Index l = 0; l < L; ++l)
@@ -200,6 +223,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     BRDFSHOT_CHECK(cv, "rule cv needs the folds");
     out.score = cv_score;
   }
+  const std::vector<std::vector<double>> unbounded = out.score;
   for (size_t j = 0; j < classes.size(); ++j) {
     if (classes[j].members.empty()) continue;
     const double cj = static_cast<double>(classes[j].members.size());
@@ -215,6 +239,20 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     for (size_t l = 0; l < opt.grid.size(); ++l)
       if (out.score[j][l] < best)
         best = out.score[j][l], out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
+  if (out.chosen_class < 0) {
+    // No λ of the grid keeps any class within the condition bound — a
+    // channel of the photo that is black (λ_j = λ‖y_c‖²/c_j is then 0 at
+    // every λ) with ill-conditioned classes. The most regularised fit is the
+    // safe one: the grid's largest λ, the class the criterion scores best there.
+    const size_t last = opt.grid.size() - 1;
+    for (size_t j = 0; j < classes.size(); ++j) {
+      if (classes[j].members.empty()) continue;
+      const double s = unbounded[j][last];
+      if (out.chosen_class < 0 || s < best) best = s, out.chosen_class = static_cast<int>(j);
+    }
+    out.lambda = opt.grid[last];
+    if (out.chosen_class >= 0) out.score[out.chosen_class][last] = best;
+  }
   BRDFSHOT_CHECK(out.chosen_class >= 0, "no non-empty class to choose");
   size_t chosen_l = 0;
   while (opt.grid[chosen_l] != out.lambda) ++chosen_l;

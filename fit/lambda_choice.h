@@ -24,6 +24,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <array>
 #include <string>
 #include <vector>
@@ -54,9 +55,19 @@ std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, con
 Observation SumObservations(const std::vector<Observation>& parts);
 
 // Everything about the folds that does not depend on the photo.
+// One class's training system in one fold, G_JJ − G_fold,JJ = Q T Qᵀ
+// (Householder tridiagonalisation) per channel: each λ of the grid is then a
+// tridiagonal solve and one application of Q — no eigenvectors, which cost
+// three times the tridiagonalisation and dominated the choice's factorisation.
+struct FoldClassFactor {
+  std::vector<int> members;
+  std::array<Eigen::MatrixXd, 3> gram;  // G_JJ − G_fold,JJ
+  std::array<Eigen::Tridiagonalization<Eigen::MatrixXd>, 3> tri;
+};
+
 struct CvSystem {
   std::vector<std::array<Eigen::MatrixXd, 3>> held_gram;                // [fold][channel], n × n
-  std::vector<std::vector<ClassSpectrum>> train;                        // [fold][class]: spectra of G − G_fold
+  std::vector<std::vector<FoldClassFactor>> train;                      // [fold][class]
   std::vector<std::vector<std::array<Eigen::MatrixXd, 3>>> held_class;  // [fold][class][channel]: G_fold,JJ
 };
 CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,

@@ -181,6 +181,28 @@ TEST(LambdaChoice, ConditionBoundRulesOutLambdasThatLetUnseenDirectionsSwing) {
   EXPECT_EQ(ch.lambda, 1e-2);
 }
 
+// A photo black in one channel (λ_j = 0 there at every λ) with an almost
+// collinear class: no λ keeps the class within the bound. The choice falls
+// back to the most regularised fit instead of failing.
+TEST(LambdaChoice, NoLambdaWithinTheBoundFallsBackToTheLargest) {
+  Scene s = MakeScene(6, 5);
+  for (int c = 0; c < 3; ++c) s.Y[c].col(4) = s.Y[c].col(1) + 1e-5f * s.Y[c].col(2);
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5}};
+  const auto f = FactorBasisImages(s.Y);
+  const std::vector<int> fold = WedgeFolds(s.g, 4);
+  const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, 4), members);
+  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(6, 3, 0.2));
+  y.col(2).setZero();
+  LambdaChoiceOptions opt;
+  opt.grid = {0, 1e-2, 1};
+  opt.max_condition = 1e6;
+  const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
+                                       FoldObservations(s.Y, y, fold, 4), s.g.size(), opt);
+  EXPECT_EQ(ch.chosen_class, 0);
+  EXPECT_EQ(ch.lambda, 1.0);
+  EXPECT_TRUE(std::isfinite(ch.predicted_error));
+}
+
 TEST(FitRecord, RoundTripsThroughJson) {
   FitRecord r;
   r.database = "MERL (NBRDF approximation)";
