@@ -7,6 +7,7 @@
 
 #include "fit/class_model.h"
 #include "fit/scene_basis.h"
+#include "fit/standin.h"
 #include "fit/test_databases.h"
 #include "util/check.h"
 #include "util/image_io.h"
@@ -86,6 +87,26 @@ TEST(FitStage, APhotoOfADatabaseMaterialIsReproducedAndWritten) {
     EXPECT_LT(g.specular_f0[c], 0.12) << "channel " << c;
   }
   EXPECT_NEAR(g.specular_scale, 0.6, 0.15);
+  // Its table: the closed form of those parameters (the stand-in code's GGX
+  // and Schlick) at every measurable bin.
+  const MerlBrdf table = MerlBrdf::Read(s.o.out + "/lambert_ggx.binary");
+  const MerlGrid& grid = table.grid();
+  int checked = 0;
+  for (size_t idx = 0; idx < grid.size(); idx += 7) {
+    if (!grid.Measurable(idx)) continue;
+    int i, j, k;
+    grid.Unindex(idx, &i, &j, &k);
+    Vec3 wi, wo;
+    FromHalfDiff(grid.LatticePoint(i, j, k), &wi, &wo);
+    const double cos_d = Dot(wi, Normalize(wi + wo));
+    for (int c = 0; c < 3; ++c) {
+      const double want = g.diffuse_albedo[c] / kPi +
+                          GgxLobe(g.specular_scale, g.alpha, FresnelSchlick(g.specular_f0[c], cos_d), wi, wo);
+      ASSERT_NEAR(table.Value(c, idx), want, 1e-5 * std::max(1.0, want)) << "bin " << idx << " channel " << c;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
 }
 
 // A class model of other bases is refused before anything is written.
