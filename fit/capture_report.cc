@@ -177,6 +177,14 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
         const double err = CompareLinearImages(truth, fit).relative_rmse;
         caption = "fit (left), truth (right): relative RMSE **" + Fixed(err, 4) + "**";
         report.relit_error.push_back({probe, err});
+        // The analytic baseline relit alike, when the relight step rendered it.
+        const fs::path gp = r / "relit" / (probe + "_lambert_ggx.exr");
+        if (fs::exists(gp)) {
+          const cv::Mat ggx = ReadHdrImage(gp.string());
+          if (ggx.size() != truth.size()) throw FileError(gp.string(), "size differs from " + tp.string());
+          caption += "; the Lambert + GGX baseline: relative RMSE " +
+                     Fixed(CompareLinearImages(truth, ggx).relative_rmse, 4);
+        }
       }
       WritePngTonemapped((pics / ("relit_" + probe + ".png")).string(), shown, AutoExposure(shown));
       md << "- " << probe << ": " << caption << "\n\n  ![" << probe << "](" << rel(pics / ("relit_" + probe + ".png"))

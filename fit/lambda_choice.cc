@@ -78,7 +78,11 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
       for (int c = 0; c < 3; ++c) {
         cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
         t.gram[c] = f[c].gram(members[j], members[j]) - cv.held_class[k][j][c];
-        if (!members[j].empty()) t.tri[c].compute(t.gram[c]);
+        if (members[j].empty()) continue;
+        const Eigen::Tridiagonalization<Eigen::MatrixXd> tri(t.gram[c]);
+        t.Q[c] = tri.matrixQ();
+        t.diagonal[c] = tri.diagonal();
+        t.off_diagonal[c] = members[j].size() > 1 ? Eigen::VectorXd(tri.subDiagonal()) : Eigen::VectorXd();
       }
     }
   }
@@ -99,10 +103,9 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd z_train = (all.z[c] - held.z[c])(J);
     const double n2_train = all.norm2[c] - held.norm2[c];
-    const Eigen::Tridiagonalization<Eigen::MatrixXd>& tri = cls.tri[c];
-    const Eigen::VectorXd b = tri.matrixQ().adjoint() * (z_train - cls.gram[c] * prior);
-    const Eigen::VectorXd d = tri.diagonal();
-    const Eigen::VectorXd e = k > 1 ? Eigen::VectorXd(tri.subDiagonal()) : Eigen::VectorXd();
+    const Eigen::VectorXd b = cls.Q[c].transpose() * (z_train - cls.gram[c] * prior);
+    const Eigen::VectorXd& d = cls.diagonal[c];
+    const Eigen::VectorXd& e = cls.off_diagonal[c];
     // (T + λ_j I) x = b by the LDLᵀ recurrence of a tridiagonal matrix. Where
     // a pivot is not positive (a singular system at λ = 0) the fold scores
     // the prior alone: the eigendecomposition's pseudo-inverse would keep
@@ -124,7 +127,7 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
       for (Eigen::Index i = k - 1; i >= 0; --i)
         X(i, l) = (y[i] - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv[i];
     }
-    Eigen::MatrixXd W = tri.matrixQ() * X;  // k × L, all λ at once
+    Eigen::MatrixXd W = cls.Q[c] * X;  // k × L, all λ at once
     W.colwise() += prior;
     const Eigen::MatrixXd GW = held_class_gram[c] * W;
     const Eigen::VectorXd zh = held.z[c](J);

@@ -56,13 +56,14 @@ Observation SumObservations(const std::vector<Observation>& parts);
 
 // Everything about the folds that does not depend on the photo.
 // One class's training system in one fold, G_JJ − G_fold,JJ = Q T Qᵀ
-// (Householder tridiagonalisation) per channel: each λ of the grid is then a
-// tridiagonal solve and one application of Q — no eigenvectors, which cost
-// three times the tridiagonalisation and dominated the choice's factorisation.
+// (Householder tridiagonalisation, Q formed) per channel: each λ of the grid
+// is then a tridiagonal solve and a product with Q. Eigenvectors, which cost
+// three times as much to compute, are not needed.
 struct FoldClassFactor {
   std::vector<int> members;
   std::array<Eigen::MatrixXd, 3> gram;  // G_JJ − G_fold,JJ
-  std::array<Eigen::Tridiagonalization<Eigen::MatrixXd>, 3> tri;
+  std::array<Eigen::MatrixXd, 3> Q;
+  std::array<Eigen::VectorXd, 3> diagonal, off_diagonal;  // of T
 };
 
 struct CvSystem {

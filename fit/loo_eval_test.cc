@@ -95,4 +95,40 @@ TEST(LeaveOneOut, TheRelitOracleRelightsAMaterialInTheSpanExactly) {
   EXPECT_EQ(checked, 2 * 3);
 }
 
+// The analytic baseline's row: a material that is exactly kd/π + q[F0(1 − s) + s]
+// GGX under every scene is fitted from one and relit exactly under the others
+// (and the scoring-only one); a material outside the model is not.
+TEST(LambertGgxRow, AMaterialOfTheModelRelightsExactlyAndOneOutsideItDoesNot) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.1f, 1.0f);
+  LooInputs in;
+  in.lobes.alphas = {0.1, 0.3};
+  const int P = 200, A = in.lobes.columns();
+  Eigen::MatrixXd truth = Eigen::MatrixXd::Zero(A, 3);  // material 0, at α = 0.3
+  for (int c = 0; c < 3; ++c) truth(0, c) = 0.2 + 0.1 * c, truth(3, c) = 0.05 * (c + 1), truth(4, c) = 0.5;
+  for (int s = 0; s < 3; ++s) {
+    SceneFactors sf;
+    sf.probe = "p" + std::to_string(s);
+    sf.scoring_only = s == 2;
+    in.scenes.push_back(sf);
+    std::array<MatrixXfR, 3> L, images;
+    for (int c = 0; c < 3; ++c) {
+      L[c] = MatrixXfR::NullaryExpr(P, A, [&] { return u(rng); });
+      images[c] = MatrixXfR::NullaryExpr(P, 6, [&] { return u(rng); });  // two materials
+      images[c].col(c) = (L[c].cast<double>() * truth.col(c)).cast<float>();
+    }
+    in.lobe_scenes.push_back(MakeLobeScene(images, L));
+  }
+  in.materials = {"in-model", "random"};
+  const LooRow exact = LambertGgxRow(in, 0, 0, "in-model");
+  EXPECT_EQ(exact.method, "lambert-ggx");
+  EXPECT_EQ(exact.probe, "p0");
+  EXPECT_LT(exact.insample, 1e-5);
+  EXPECT_LT(exact.relit_mean, 1e-5) << "relit under p1";
+  EXPECT_LT(exact.relit_directional, 1e-5) << "relit under the scoring-only p2";
+  EXPECT_EQ(exact.negative_bins, 0);
+  const LooRow other = LambertGgxRow(in, 1, 1, "random");
+  EXPECT_GT(other.relit_mean, 0.05);
+}
+
 }  // namespace brdfshot

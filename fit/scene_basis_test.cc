@@ -24,6 +24,13 @@ SceneBasisOptions DemoScene(const std::string& probe) {
   return o;
 }
 
+// A random 32 × 16 sky (radiance 0.1 … 2), the probe of these small scenes.
+cv::Mat RandomSky() {
+  cv::Mat sky(16, 32, CV_32FC3);
+  cv::randu(sky, cv::Scalar::all(0.1), cv::Scalar::all(2.0));
+  return sky;
+}
+
 }  // namespace
 
 // Light transport is linear in the lighting: the same scene under a probe of
@@ -32,8 +39,7 @@ SceneBasisOptions DemoScene(const std::string& probe) {
 TEST(SceneBasis, ImagesAreLinearInTheProbeAndTheHeaderNamesTheScene) {
   const fs::path dir = fs::temp_directory_path() / "brdfshot_scene_basis_test";
   fs::create_directories(dir);
-  cv::Mat sky(16, 32, CV_32FC3);
-  cv::randu(sky, cv::Scalar::all(0.1), cv::Scalar::all(2.0));
+  const cv::Mat sky = RandomSky();
   const std::string one = (dir / "one.exr").string(), two = (dir / "two.exr").string();
   WriteExr(one, sky);
   WriteExr(two, cv::Mat(sky * 2));
@@ -68,10 +74,8 @@ TEST(SceneBasis, ImagesAreLinearInTheProbeAndTheHeaderNamesTheScene) {
 TEST(SceneBasis, LobeImagesRoundTripThroughTheFileAndACutFileIsRefused) {
   const fs::path dir = fs::temp_directory_path() / "brdfshot_scene_basis_lobes_test";
   fs::create_directories(dir);
-  cv::Mat sky(16, 32, CV_32FC3);
-  cv::randu(sky, cv::Scalar::all(0.1), cv::Scalar::all(2.0));
   const std::string probe = (dir / "sky.exr").string(), file = (dir / "b.bsbi").string();
-  WriteExr(probe, sky);
+  WriteExr(probe, RandomSky());
   BasisImages a = ComputeSceneBasis(DemoScene(probe)).images;
   a.Write(file);
   const BasisImages back = BasisImages::Read(file);
@@ -102,8 +106,7 @@ TEST(SceneBasis, IdenticalScenesShareOneRenderingAndADamagedShareIsRenderedAgain
   const fs::path dir = fs::temp_directory_path() / "brdfshot_scene_basis_shared_test";
   fs::remove_all(dir);
   fs::create_directories(dir);
-  cv::Mat sky(16, 32, CV_32FC3);
-  cv::randu(sky, cv::Scalar::all(0.1), cv::Scalar::all(2.0));
+  const cv::Mat sky = RandomSky();
   const std::string one = (dir / "one.exr").string(), two = (dir / "two.exr").string();
   WriteExr(one, sky);
   WriteExr(two, cv::Mat(sky * 0.5));
