@@ -254,6 +254,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
       if (out.chosen_class < 0 || s < best) best = s, out.chosen_class = static_cast<int>(j);
     }
     out.lambda = opt.grid[last];
+    out.beyond_condition_bound = true;
     if (out.chosen_class >= 0) out.score[out.chosen_class][last] = best;
   }
   BRDFSHOT_CHECK(out.chosen_class >= 0, "no non-empty class to choose");

@@ -107,6 +107,9 @@ struct LambdaChoice {
   // the wedges when folds are given (else GCV's estimate): the fit's predicted
   // error on pixels — and lighting — it was not fitted to.
   double predicted_error = 0;
+  // No λ of the grid kept any class within max_condition: the grid's largest
+  // λ was taken instead of the criterion's pick.
+  bool beyond_condition_bound = false;
 };
 
 // Scores every class at every λ of the grid for `obs` and picks the best. With

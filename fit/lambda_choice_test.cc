@@ -200,6 +200,7 @@ TEST(LambdaChoice, NoLambdaWithinTheBoundFallsBackToTheLargest) {
                                        FoldObservations(s.Y, y, fold, 4), s.g.size(), opt);
   EXPECT_EQ(ch.chosen_class, 0);
   EXPECT_EQ(ch.lambda, 1.0);
+  EXPECT_TRUE(ch.beyond_condition_bound);
   EXPECT_TRUE(std::isfinite(ch.predicted_error));
 }
 
@@ -223,8 +224,10 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.weights = Eigen::MatrixXd::Random(3, 3);
   r.seconds_factor = 0.2;
   r.seconds_solve = 0.003;
+  r.lambda_beyond_condition_bound = true;
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
+  EXPECT_TRUE(back.lambda_beyond_condition_bound);
   EXPECT_TRUE(back.weights == r.weights);
   EXPECT_TRUE(std::isinf(back.classes[2].residual));
   EXPECT_TRUE(std::isinf(back.lambda_scores[2][1]));

@@ -117,6 +117,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
                          : path == "nonneg-bins"  ? ConstraintName(WeightConstraint::Kind::kBins)
                                                   : ConstraintName(WeightConstraint::Kind::kNone);
   r.lambda = f.choice.lambda;
+  r.lambda_beyond_condition_bound = f.choice.beyond_condition_bound;
   r.predicted_relit_error = f.choice.predicted_error;
   r.chosen_class = f.fit.chosen;
   r.relative_residual = f.relative_residual;
@@ -170,12 +171,17 @@ nlohmann::json FitRecord::ToJson() const {
     for (double v : row) r.push_back(Finite(v));
     curve.push_back(r);
   }
-  j["lambda_choice"] = {{"rule", lambda_rule},
-                        {"grid", lambda_grid},
-                        {"score_per_class", curve},
-                        {"why", lambda_rule == "cv"    ? "smallest held-out error over wedges of the sphere, any class"
-                                : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class"
-                                                       : "given by --lambda; class by residual"}};
+  j["lambda_choice"] = {
+      {"rule", lambda_rule},
+      {"grid", lambda_grid},
+      {"score_per_class", curve},
+      {"beyond_condition_bound", lambda_beyond_condition_bound},
+      {"why", lambda_beyond_condition_bound
+                  ? "no lambda of the grid kept any class within the condition bound: the grid's largest, the class "
+                    "scoring best there"
+              : lambda_rule == "cv"  ? "smallest held-out error over wedges of the sphere, any class"
+              : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class"
+                                     : "given by --lambda; class by residual"}};
   j["bases"] = bases;
   j["weights"] = nlohmann::json::array();
   for (Eigen::Index i = 0; i < weights.rows(); ++i)
@@ -211,6 +217,7 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
       r.classes.push_back({c.at("members").get<int>(), FromFinite(c.at("residual")), FromFinite(c.at("condition")),
                            c.at("path").get<std::string>()});
     r.lambda_grid = j.at("lambda_choice").at("grid").get<std::vector<double>>();
+    r.lambda_beyond_condition_bound = j.at("lambda_choice").value("beyond_condition_bound", false);
     for (const auto& row : j.at("lambda_choice").at("score_per_class")) {
       std::vector<double> v;
       for (const auto& x : row) v.push_back(FromFinite(x));

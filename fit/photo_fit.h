@@ -68,6 +68,7 @@ struct FitRecord {
   MerlGrid grid;
   std::string lambda_rule;
   double lambda = 0;
+  bool lambda_beyond_condition_bound = false;  // LambdaChoice::beyond_condition_bound
   std::string weights_constraint = "none";  // ConstraintName of the chosen class's solve
   double predicted_relit_error = 0;
   int chosen_class = -1;
