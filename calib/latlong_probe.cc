@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "util/check.h"
+#include "util/fnv_hash.h"
 #include "util/image_io.h"
 
 namespace brdfshot {
@@ -118,12 +119,8 @@ LatLongProbe LatLongProbe::Rotated(const Rotation& to_this) const {
 }
 
 uint64_t LatLongProbe::Hash() const {
-  uint64_t h = 1469598103934665603ull;
   const cv::Mat c = rgb_.isContinuous() ? rgb_ : rgb_.clone();
-  const auto* bytes = c.ptr<unsigned char>();
-  const size_t n = c.total() * c.elemSize();
-  for (size_t i = 0; i < n; ++i) h = (h ^ bytes[i]) * 1099511628211ull;
-  return h;
+  return Fnv1a(c.ptr<unsigned char>(), c.total() * c.elemSize());
 }
 
 PrefilteredProbe::PrefilteredProbe(const LatLongProbe& probe) {

@@ -5,6 +5,7 @@
 
 #include "normals/observation.h"
 #include "util/check.h"
+#include "util/fnv_hash.h"
 #include "util/progress.h"
 
 namespace brdfshot {
@@ -23,12 +24,11 @@ nlohmann::json SceneKey(const SceneBasisOptions& o, const LatLongProbe& probe, c
   // A sample of the tables themselves (every 997th bin), so that a database
   // whose tables change under the same names does not reuse images rendered
   // from the old ones.
-  uint64_t h = 1469598103934665603ull;
+  uint64_t h = kFnv1aOffset;
   for (Eigen::Index r = 0; r < db.B.rows(); r += 997)
     for (Eigen::Index c = 0; c < db.B.cols(); ++c) {
       const float v = db.B(r, c);
-      const auto* bytes = reinterpret_cast<const unsigned char*>(&v);
-      for (size_t k = 0; k < sizeof v; ++k) h = (h ^ bytes[k]) * 1099511628211ull;
+      h = Fnv1a(&v, sizeof v, h);
     }
   key["tables_sample_hash"] = h;
   key["lobes"] = LambertGgxLobes{}.ToJson();
@@ -36,8 +36,8 @@ nlohmann::json SceneKey(const SceneBasisOptions& o, const LatLongProbe& probe, c
 }
 
 std::string SharedFileName(const std::string& dir, const nlohmann::json& key) {
-  uint64_t h = 1469598103934665603ull;  // FNV-1a over the key's text
-  for (unsigned char c : key.dump()) h = (h ^ c) * 1099511628211ull;
+  const std::string text = key.dump();
+  const uint64_t h = Fnv1a(text.data(), text.size());
   char name[32];
   std::snprintf(name, sizeof name, "%016llx.bsbi", static_cast<unsigned long long>(h));
   return (std::filesystem::path(dir) / name).string();

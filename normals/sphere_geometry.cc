@@ -3,15 +3,13 @@
 #include <cmath>
 
 #include "util/check.h"
+#include "util/fnv_hash.h"
 
 namespace brdfshot {
 
 uint64_t PixelGeometry::Hash() const {
-  uint64_t h = 1469598103934665603ull;
-  auto mix = [&h](const void* p, size_t n) {
-    const auto* b = static_cast<const unsigned char*>(p);
-    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
-  };
+  uint64_t h = kFnv1aOffset;
+  auto mix = [&h](const void* p, size_t n) { h = Fnv1a(p, n, h); };
   mix(&width, sizeof width);
   mix(&height, sizeof height);
   for (size_t i = 0; i < size(); ++i) {
