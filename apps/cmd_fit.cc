@@ -107,8 +107,8 @@ int FitMain(int argc, char** argv) {
     std::printf(
         "analytic baseline (Lambert + GGX, same pixels): relative residual %.4f; diffuse albedo %.3f %.3f %.3f, "
         "specular F0 %.3f %.3f %.3f x %.3f, roughness %.3f (GGX alpha %g); its table: %s/lambert_ggx.binary\n",
-        g.relative_residual, g.diffuse_albedo[0], g.diffuse_albedo[1], g.diffuse_albedo[2], g.specular_f0[0],
-        g.specular_f0[1], g.specular_f0[2], g.specular_scale, std::sqrt(g.alpha), g.alpha, o.out.c_str());
+        g.relative_residual, g.diffuse_albedo[0], g.diffuse_albedo[1], g.diffuse_albedo[2], g.SpecularF0()[0],
+        g.SpecularF0()[1], g.SpecularF0()[2], g.specular_scale, std::sqrt(g.alpha), g.alpha, o.out.c_str());
   }
   return 0;
 }

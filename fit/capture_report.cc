@@ -134,7 +134,7 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
       md << "- analytic baseline (Lambert + GGX on the same pixels, `lambert_ggx` in fit.json): relative residual "
          << Fixed(g.relative_residual, 4) << "; diffuse albedo " << Fixed(g.diffuse_albedo[0], 3) << ", "
          << Fixed(g.diffuse_albedo[1], 3) << ", " << Fixed(g.diffuse_albedo[2], 3) << "; specular F0 "
-         << Fixed(g.specular_f0[0], 3) << ", " << Fixed(g.specular_f0[1], 3) << ", " << Fixed(g.specular_f0[2], 3)
+         << Fixed(g.SpecularF0()[0], 3) << ", " << Fixed(g.SpecularF0()[1], 3) << ", " << Fixed(g.SpecularF0()[2], 3)
          << " × " << Fixed(g.specular_scale, 3) << "; roughness " << Fixed(std::sqrt(g.alpha), 3) << " (GGX α "
          << g.alpha << ")\n";
     }

@@ -83,8 +83,8 @@ TEST(FitStage, APhotoOfADatabaseMaterialIsReproducedAndWritten) {
     // F0 of a dielectric of index 1.5 is 0.04; Schlick's curve is not the
     // dielectric's, and a 24-pixel sphere under a random sky lets F0 and the
     // scale trade off (0.04 … 0.07 seen): a dielectric, not a metal (F0 ≥ 0.5).
-    EXPECT_GT(g.specular_f0[c], 0.01) << "channel " << c;
-    EXPECT_LT(g.specular_f0[c], 0.12) << "channel " << c;
+    EXPECT_GT(g.SpecularF0()[c], 0.01) << "channel " << c;
+    EXPECT_LT(g.SpecularF0()[c], 0.12) << "channel " << c;
   }
   EXPECT_NEAR(g.specular_scale, 0.6, 0.15);
   // Its table: the closed form of those parameters (the stand-in code's GGX
@@ -101,7 +101,7 @@ TEST(FitStage, APhotoOfADatabaseMaterialIsReproducedAndWritten) {
     const double cos_d = Dot(wi, Normalize(wi + wo));
     for (int c = 0; c < 3; ++c) {
       const double want = g.diffuse_albedo[c] / kPi +
-                          GgxLobe(g.specular_scale, g.alpha, FresnelSchlick(g.specular_f0[c], cos_d), wi, wo);
+                          GgxLobe(g.specular_scale, g.alpha, FresnelSchlick(g.SpecularF0()[c], cos_d), wi, wo);
       ASSERT_NEAR(table.Value(c, idx), want, 1e-5 * std::max(1.0, want)) << "bin " << idx << " channel " << c;
     }
     ++checked;

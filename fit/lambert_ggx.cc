@@ -114,6 +114,17 @@ double LobeRelativeError(const LobeSystem& s, const Eigen::MatrixXd& w) {
   return den > 0 ? std::sqrt(std::max(0.0, num) / den) : 0.0;
 }
 
+namespace {
+// The weights on the lobe columns of kd / π + q [F0 (1 − s) + s] GGX(α_r):
+// kd on column 0, q F0 on 1 + 2r, q on 2 + 2r.
+Eigen::MatrixXd LobeWeights(int columns, int r, const std::array<double, 3>& kd, const std::array<double, 3>& scaled_f0,
+                            double q) {
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(columns, 3);
+  for (int c = 0; c < 3; ++c) w(0, c) = kd[c], w(1 + 2 * r, c) = scaled_f0[c], w(2 + 2 * r, c) = q;
+  return w;
+}
+}  // namespace
+
 LambertGgxFit FitLambertGgx(const LambertGgxLobes& lobes, const LobeSystem& s) {
   const int R = static_cast<int>(lobes.alphas.size());
   BRDFSHOT_CHECK(R > 0 && s.gram[0].rows() == lobes.columns(), "lobe system does not match the lobes");
@@ -133,8 +144,8 @@ LambertGgxFit FitLambertGgx(const LambertGgxLobes& lobes, const LobeSystem& s) {
       b[c] = s.z[c][0], b[3 + c] = s.z[c][i0], b[6] += s.z[c][i1];
     }
     const Eigen::VectorXd x = SolveNonNegative(H, b).x;
-    Eigen::MatrixXd w = Eigen::MatrixXd::Zero(lobes.columns(), 3);
-    for (int c = 0; c < 3; ++c) w(0, c) = x[c], w(i0, c) = x[3 + c], w(i1, c) = x[6];
+    const std::array<double, 3> kd = {x[0], x[1], x[2]}, scaled_f0 = {x[3], x[4], x[5]};
+    const Eigen::MatrixXd w = LobeWeights(lobes.columns(), r, kd, scaled_f0, x[6]);
     const double e = LobeRelativeError(s, w);
     best.residual_by_alpha.push_back(e);
     if (e < best_error) {
@@ -143,15 +154,18 @@ LambertGgxFit FitLambertGgx(const LambertGgxLobes& lobes, const LobeSystem& s) {
       best.alpha = lobes.alphas[r];
       best.weights = w;
       best.specular_scale = x[6];
-      for (int c = 0; c < 3; ++c) {
-        best.diffuse_albedo[c] = x[c];
-        best.scaled_f0[c] = x[3 + c];
-        best.specular_f0[c] = x[6] > 0 ? x[3 + c] / x[6] : 0.0;
-      }
+      best.diffuse_albedo = kd;
+      best.scaled_f0 = scaled_f0;
     }
   }
   best.relative_residual = best_error;
   return best;
+}
+
+std::array<double, 3> LambertGgxFit::SpecularF0() const {
+  std::array<double, 3> f0{};
+  for (int c = 0; c < 3; ++c) f0[c] = specular_scale > 0 ? scaled_f0[c] / specular_scale : 0.0;
+  return f0;
 }
 
 nlohmann::json LambertGgxFit::ToJson(const LambertGgxLobes& lobes) const {
@@ -160,7 +174,7 @@ nlohmann::json LambertGgxFit::ToJson(const LambertGgxLobes& lobes) const {
                    "[F0 (1 - s) + s] * D G / (4 cos_i cos_o), s = (1 - cos_d)^5, GGX D with height-correlated "
                    "Smith G; roughness = sqrt(alpha) as Blender and Unreal take it"},
           {"diffuse_albedo", diffuse_albedo},
-          {"specular_f0", specular_f0},
+          {"specular_f0", SpecularF0()},
           {"specular_scale", specular_scale},
           {"scaled_f0", scaled_f0},
           {"alpha", alpha},
@@ -169,16 +183,11 @@ nlohmann::json LambertGgxFit::ToJson(const LambertGgxLobes& lobes) const {
           {"residual_by_alpha", residual_by_alpha}};
 }
 
-}  // namespace brdfshot
-
-namespace brdfshot {
-
 LambertGgxFit LambertGgxFit::FromJson(const nlohmann::json& j, const LambertGgxLobes& lobes, const std::string& source) {
   LambertGgxFit f;
   try {
     f.alpha = j.at("alpha");
     f.diffuse_albedo = j.at("diffuse_albedo");
-    f.specular_f0 = j.at("specular_f0");
     f.specular_scale = j.at("specular_scale");
     f.scaled_f0 = j.at("scaled_f0");
     f.relative_residual = j.at("relative_residual");
@@ -189,12 +198,7 @@ LambertGgxFit LambertGgxFit::FromJson(const nlohmann::json& j, const LambertGgxL
   for (size_t r = 0; r < lobes.alphas.size(); ++r)
     if (lobes.alphas[r] == f.alpha) f.alpha_index = static_cast<int>(r);
   if (f.alpha_index < 0) throw FileError(source, "lambert_ggx alpha is not one of its model's");
-  f.weights = Eigen::MatrixXd::Zero(lobes.columns(), 3);
-  for (int c = 0; c < 3; ++c) {
-    f.weights(0, c) = f.diffuse_albedo[c];
-    f.weights(1 + 2 * f.alpha_index, c) = f.scaled_f0[c];
-    f.weights(2 + 2 * f.alpha_index, c) = f.specular_scale;
-  }
+  f.weights = LobeWeights(lobes.columns(), f.alpha_index, f.diffuse_albedo, f.scaled_f0, f.specular_scale);
   return f;
 }
 

@@ -62,12 +62,14 @@ struct LambertGgxFit {
   int alpha_index = -1;
   double alpha = 0;
   std::array<double, 3> diffuse_albedo{};  // kd
-  std::array<double, 3> specular_f0{};     // F0 = (q F0) / q (0 when q = 0); ≤ 1 not enforced
   double specular_scale = 0;               // q
   std::array<double, 3> scaled_f0{};       // q F0 as solved (what the weights hold, also when q = 0)
   Eigen::MatrixXd weights;                 // columns × 3: the fit as weights on the lobe columns
   double relative_residual = 0;            // ‖L w − y‖ / ‖y‖ at the chosen α
   std::vector<double> residual_by_alpha;   // the same at every α of the grid
+
+  // F0 = (q F0) / q per channel (0 when q = 0); ≤ 1 not enforced.
+  std::array<double, 3> SpecularF0() const;
 
   // Base colour, specular, roughness as a renderer takes them, the model and
   // the residual at every α; FromJson reads it back (weights rebuilt), an

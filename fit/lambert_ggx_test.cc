@@ -96,7 +96,7 @@ TEST(LambertGgx, FitRecoversTheParametersOfAStandinRenderedOnTheGrid) {
   EXPECT_NEAR(fit.specular_scale, 1.0, 1e-3);
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(fit.diffuse_albedo[c], kd[c], 1e-3) << "channel " << c;
-    EXPECT_NEAR(fit.specular_f0[c], f0[c], 2e-3) << "channel " << c;
+    EXPECT_NEAR(fit.SpecularF0()[c], f0[c], 2e-3) << "channel " << c;
   }
   // Its neighbours on the grid fit visibly worse: the search sees roughness.
   EXPECT_GT(fit.residual_by_alpha[r - 1], 10 * fit.relative_residual);
