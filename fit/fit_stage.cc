@@ -44,7 +44,7 @@ FitStageResult RunFitStage(const FitStageOptions& o) {
   const MerlBrdf brdf = BrdfOfFit(r.record, tables, &r.label, &r.clamped);
   brdf.Write(o.out + "/brdf.binary");
   if (r.record.lambert_ggx)  // the analytic baseline as a table too, for any MERL renderer
-    TabulateLambertGgx(r.record.lobes, *r.record.lambert_ggx, r.record.grid).Write(o.out + "/lambert_ggx.binary");
+    LambertGgxBrdf(r.record).Write(o.out + "/lambert_ggx.binary");
 
   // The first photo beside its reconstruction (in its own scale).
   const Eigen::Index first = static_cast<Eigen::Index>(bases[0].geometry.size());

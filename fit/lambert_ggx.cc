@@ -69,30 +69,6 @@ LambertGgxLobes LambertGgxLobes::FromJson(const nlohmann::json& j, const std::st
   return l;
 }
 
-MerlBrdf TabulateLambertGgx(const LambertGgxLobes& lobes, const LambertGgxFit& fit, const MerlGrid& grid) {
-  BRDFSHOT_CHECK(fit.alpha_index >= 0 && fit.weights.rows() == lobes.columns());
-  // Only the chosen α's lobes: three columns instead of the whole grid's.
-  LambertGgxLobes chosen;
-  chosen.alphas = {lobes.alphas[fit.alpha_index]};
-  const MatrixXfR T = chosen.Tables(grid);
-  const int r = fit.alpha_index;
-  MerlBrdf out(grid);
-  for (size_t idx = 0; idx < grid.size(); ++idx) {
-    const Eigen::Index i = static_cast<Eigen::Index>(idx);
-    const bool measurable = grid.Measurable(idx);
-    for (int c = 0; c < 3; ++c) {
-      if (!measurable) {
-        out.set_raw(c, idx, -1);
-        continue;
-      }
-      const double v = T(i, 0) * fit.weights(0, c) + T(i, 1) * fit.weights(1 + 2 * r, c) +
-                       T(i, 2) * fit.weights(2 + 2 * r, c);
-      out.set_raw(c, idx, v / kMerlScale[c]);
-    }
-  }
-  return out;
-}
-
 LobeSystem MakeLobeSystem(const std::array<MatrixXfR, 3>& L, const Eigen::MatrixXd& y) {
   LobeSystem s;
   for (int c = 0; c < 3; ++c) {

@@ -19,7 +19,6 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "fit/merl_brdf.h"
 #include "fit/merl_grid.h"
 #include "fit/nbrdf.h"
 
@@ -82,10 +81,6 @@ struct LambertGgxFit {
 // system (a lobe that lights no pixel) is solved by the non-negative solver's
 // ridge (fit/nonneg.h): one of the equally good answers.
 LambertGgxFit FitLambertGgx(const LambertGgxLobes& lobes, const LobeSystem& s);
-
-// The fitted BRDF tabulated on `grid` (MERL layout: what `render` and other
-// renderers read), unmeasurable bins −1 as in every MERL table.
-MerlBrdf TabulateLambertGgx(const LambertGgxLobes& lobes, const LambertGgxFit& fit, const MerlGrid& grid);
 
 // ‖L w − y‖ / ‖y‖ over the three channels for weights `w` (columns × 3).
 double LobeRelativeError(const LobeSystem& s, const Eigen::MatrixXd& w);

@@ -307,4 +307,17 @@ MerlBrdf BrdfOfFit(const FitRecord& record, DatabaseOptions opt, std::string* la
   return BrdfOfFit(record, DatabaseOfFit(record, std::move(opt)), label);
 }
 
+MerlBrdf LambertGgxBrdf(const FitRecord& record) {
+  BRDFSHOT_CHECK(record.lambert_ggx, "the fit record holds no Lambert + GGX fit");
+  const LambertGgxFit& g = *record.lambert_ggx;
+  // Only the chosen α's lobes: three columns instead of the whole grid's.
+  LambertGgxLobes chosen;
+  chosen.alphas = {g.alpha};
+  BasisDatabase lobes;
+  lobes.grid = record.grid;
+  lobes.B = chosen.Tables(record.grid);
+  const int r = g.alpha_index;
+  return CombineBases(lobes, g.weights(std::vector<int>{0, 1 + 2 * r, 2 + 2 * r}, Eigen::all));
+}
+
 }  // namespace brdfshot

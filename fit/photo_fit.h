@@ -114,5 +114,8 @@ BasisDatabase DatabaseOfFit(const FitRecord& record, DatabaseOptions opt);
 MerlBrdf BrdfOfFit(const FitRecord& record, const BasisDatabase& db, std::string* label = nullptr,
                    long* clamped = nullptr);
 MerlBrdf BrdfOfFit(const FitRecord& record, DatabaseOptions opt, std::string* label = nullptr);
+// The record's Lambert + GGX baseline on its grid (MERL layout, what `render`
+// and other renderers read); the record must hold one.
+MerlBrdf LambertGgxBrdf(const FitRecord& record);
 
 }  // namespace brdfshot
