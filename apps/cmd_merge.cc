@@ -106,6 +106,10 @@ int MergeMain(int argc, char** argv) {
   if (side.deghosted)
     std::printf(", %.2f %% moved between frames (taken from %s alone)", 100 * side.ghost_fraction,
                 side.frames[side.reference_frame].value("file", "the middle frame").c_str());
+  std::printf("\ntime: response %.2f s, merge %.2f s (noise model %.2f s, colour pooling %.2f s)", m.seconds.response,
+              m.seconds.merge, m.merge.noise_seconds, m.merge.pool_seconds);
+  if (args.align) std::printf(", alignment %.2f s", m.seconds.align);
+  if (side.deghosted) std::printf(", ghost detection %.2f s", m.seconds.deghost);
   std::printf("\nwrote %s, %s, %s%s%s\n", outputs.image.c_str(), outputs.mask.c_str(), outputs.sidecar.c_str(),
               side.ghosts.empty() ? "" : ", ", side.ghosts.c_str());
   return 0;

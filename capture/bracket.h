@@ -64,8 +64,15 @@ struct BracketMergeOptions {
   const ResponseCurve* response = nullptr;  // reuse instead of recovering
 };
 
+// Wall time of MergeReadBracket's steps (the merge's own parts are in
+// MergeResult), for `bench-merge --bracket` and `merge`'s summary.
+struct MergeStageSeconds {
+  double align = 0, response = 0, deghost = 0, merge = 0;
+};
+
 struct MergedBracket {
   MergeResult merge;
+  MergeStageSeconds seconds;
   ResponseCurve response;
   MergeSidecar sidecar;         // filled but for the output paths and the command line
   std::vector<cv::Mat> frames;  // as merged (aligned when asked)

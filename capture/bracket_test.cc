@@ -8,6 +8,7 @@
 
 #include "capture/clipping.h"
 #include "capture/merge_sidecar.h"
+#include "capture/test_scenes.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_io.h"
@@ -15,26 +16,6 @@
 namespace brdfshot {
 namespace {
 namespace fs = std::filesystem;
-
-// A folder of 8-bit PNG frames (BGR on disk) and a times file.
-struct Folder {
-  fs::path dir;
-  std::vector<std::string> files;
-  std::string times;
-  explicit Folder(const std::string& name) : dir(fs::temp_directory_path() / name) {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Folder() { fs::remove_all(dir); }
-  void Add(const cv::Mat& bgr8, double t) {
-    const std::string f = (dir / ("f" + std::to_string(files.size()) + ".png")).string();
-    cv::imwrite(f, bgr8);
-    files.push_back(f);
-    times += std::to_string(t) + "\n";
-    std::ofstream((dir / "times.txt").string()) << times;
-  }
-  std::string TimesPath() const { return (dir / "times.txt").string(); }
-};
 
 // A gradient scene seen through a linear 8-bit camera at exposure t.
 cv::Mat Shot(double t, cv::Size size = {32, 24}) {
@@ -57,7 +38,7 @@ std::string Message(const std::function<void()>& f) {
 }
 
 TEST(Bracket, ReadsFramesAndTimesAndMergesToTheSceneUpToScale) {
-  Folder d("brdfshot_bracket_read");
+  FrameFolder d("brdfshot_bracket_read");
   for (double t : {0.25, 0.5, 1.0}) d.Add(Shot(t), t);
   BracketReadOptions opt;
   opt.times_path = d.TimesPath();
@@ -82,7 +63,7 @@ TEST(Bracket, ReadsFramesAndTimesAndMergesToTheSceneUpToScale) {
 // sidecar names the outputs and the frames, the mask is the merge's. A half
 // float that cannot hold the radiance is refused before anything is written.
 TEST(Bracket, OutputsReadBackAndHalfFloatOverflowIsRefusedFirst) {
-  Folder d("brdfshot_bracket_outputs");
+  FrameFolder d("brdfshot_bracket_outputs");
   for (double t : {0.25, 0.5, 1.0}) d.Add(Shot(t), t);
   BracketReadOptions opt;
   opt.times_path = d.TimesPath();
@@ -118,7 +99,7 @@ TEST(Bracket, OutputsReadBackAndHalfFloatOverflowIsRefusedFirst) {
 }
 
 TEST(Bracket, RefusalsNameTheFrame) {
-  Folder d("brdfshot_bracket_refuse");
+  FrameFolder d("brdfshot_bracket_refuse");
   d.Add(Shot(0.5), 0.5);
   d.Add(Shot(1.0, {16, 24}), 1.0);
   BracketReadOptions opt;
@@ -136,7 +117,7 @@ TEST(Bracket, RefusalsNameTheFrame) {
 }
 
 TEST(Bracket, ABracketThatSawNothingIsRefusedInThePhotographersTerms) {
-  Folder d("brdfshot_bracket_nothing");
+  FrameFolder d("brdfshot_bracket_nothing");
   d.Add(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(255)), 0.5);
   d.Add(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(255)), 1.0);
   BracketReadOptions opt;
@@ -144,7 +125,7 @@ TEST(Bracket, ABracketThatSawNothingIsRefusedInThePhotographersTerms) {
   const std::string white = Message([&] { CheckBracketMeasured(ReadBracket(d.files, opt)); });
   EXPECT_NE(white.find(d.files[0] + ": is saturated everywhere, and it is the shortest exposure"), std::string::npos)
       << white;
-  Folder k("brdfshot_bracket_black");
+  FrameFolder k("brdfshot_bracket_black");
   k.Add(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(0)), 0.5);
   k.Add(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(1)), 1.0);
   opt.times_path = k.TimesPath();

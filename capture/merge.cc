@@ -8,6 +8,7 @@
 
 #include "capture/clipping.h"
 #include "util/check.h"
+#include "util/progress.h"
 
 namespace brdfshot {
 
@@ -179,9 +180,11 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
       for (size_t j = 0; j < frames.size(); ++j) clipped[j] = clipped[j] | opt.excluded[j];
   }
   const auto& lin = T.lin;
+  const Stopwatch noise_clock;
   const NoiseModel noise = opt.weights == MergeWeights::kNoise && opt.estimate_noise
                                ? EstimateNoise(frames, times, response, opt)
                                : opt.noise;
+  const double noise_seconds = noise_clock.Seconds();
   // Weight of a frame's estimate lin(z)/t, up to the power of t.
   std::array<std::vector<float>, 3> wz;
   const double mid = 0.5 * (zlo + zhi);
@@ -206,6 +209,7 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
   const int shortest = order.front(), longest = order.back();
 
   MergeResult out;
+  out.noise_seconds = noise_seconds;
   out.radiance.create(frames[0].size(), CV_32FC3);
   out.mask = cv::Mat::zeros(frames[0].size(), CV_8U);
   const int rows = frames[0].rows, cols = frames[0].cols;
@@ -259,7 +263,9 @@ MergeResult MergeWithClipping(const std::vector<cv::Mat>& frames, const std::vec
     }
   }
   out.unreliable_fraction = static_cast<double>(unreliable) / (static_cast<double>(rows) * cols);
+  const Stopwatch pool_clock;
   if (noisy_pixels > 0) PoolNoisyChroma(noisy, &out.radiance);
+  out.pool_seconds = pool_clock.Seconds();
   out.chroma_pooled_fraction = static_cast<double>(noisy_pixels) / (static_cast<double>(rows) * cols);
   return out;
 }

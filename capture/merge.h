@@ -69,6 +69,9 @@ struct MergeResult {
   cv::Mat mask;      // CV_8U, 255 where no frame measured some channel well
   double unreliable_fraction = 0;
   double chroma_pooled_fraction = 0;  // pixels whose colour came from their neighbours (pool_noisy_chroma)
+  // Wall time of the merge's parts, for `bench-merge --bracket`: the noise
+  // model estimated from the frames, and the colour pooling of noisy pixels.
+  double noise_seconds = 0, pool_seconds = 0;
 };
 
 // `frames`: RGB, all CV_8UC3 or all CV_16UC3, same size; `times` relative

@@ -17,6 +17,7 @@
 #include "capture/response.h"
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/huge_pages.h"
 #include "util/image_io.h"
 #include "util/progress.h"
 #include "util/stats.h"
@@ -251,6 +252,10 @@ MergeBenchmarkTables RunMergeBenchmark(const MergeBenchmarkOptions& o) {
       std::printf("%s: %dx%d, %d frames %.0f EV apart, simulated in %.1f s; the scene's own shadow speckle %.4f\n",
                   scene.c_str(), o.size.width, o.size.height, o.frames, o.stops, sim.Seconds(), scene_speckle);
     for (const MergeMethod& m : methods) {
+      // Each as its own program runs it: ours on huge pages (`brdfshot`
+      // installs them), the others on OpenCV's allocator.
+      const bool ours = m.key.rfind("ours", 0) == 0;
+      const ScopedMatAllocator allocator(ours ? HugePageMatAllocator() : cv::Mat::getStdAllocator());
       Stopwatch sw;
       const cv::Mat hdr = m.merge(brackets[m.raw], t);
       const double secs = sw.Seconds();

@@ -3,7 +3,12 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace brdfshot {
@@ -37,5 +42,26 @@ inline cv::Matx33d TurnedCamera(double yaw, double pitch, double roll, double f,
   const cv::Matx33d K(f, 0, size.width / 2.0, 0, f, size.height / 2.0, 0, 0, 1);
   return K * Rz * Rx * Ry * K.inv();
 }
+
+// A temporary folder of PNG frames (BGR on disk, as given) and their times
+// file, removed with the object.
+struct FrameFolder {
+  std::filesystem::path dir;
+  std::vector<std::string> files;
+  std::string times;
+  explicit FrameFolder(const std::string& name) : dir(std::filesystem::temp_directory_path() / name) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+  }
+  ~FrameFolder() { std::filesystem::remove_all(dir); }
+  void Add(const cv::Mat& bgr, double t) {
+    const std::string f = (dir / ("f" + std::to_string(files.size()) + ".png")).string();
+    cv::imwrite(f, bgr);
+    files.push_back(f);
+    times += std::to_string(t) + "\n";
+    std::ofstream((dir / "times.txt").string()) << times;
+  }
+  std::string TimesPath() const { return (dir / "times.txt").string(); }
+};
 
 }  // namespace brdfshot

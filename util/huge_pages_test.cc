@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <fstream>
+#include <opencv2/imgproc.hpp>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -38,6 +40,37 @@ TEST(HugePages, AdviceKeepsTheContentsAndIsTakenWhereTheKernelOffersIt) {
   if (mode == "always" || mode == "madvise") {
     EXPECT_TRUE(taken) << "THP mode " << mode;
   }
+}
+
+// Images made through the allocator hold what the same operations give with
+// OpenCV's own; large ones start on a 2 MB boundary (where huge pages can back
+// them), small ones need not; an image over caller-owned memory is left to
+// its owner.
+TEST(HugePages, TheMatAllocatorGivesLargeImagesHugePageAlignedMemoryAndTheSameResults) {
+  cv::Mat noise(1500, 1000, CV_32FC3);  // 18 MB
+  cv::randu(noise, 0, 1);
+  cv::Mat expected;
+  cv::GaussianBlur(noise, expected, cv::Size(7, 7), 2);
+
+  cv::MatAllocator* const opencv_own = cv::Mat::getDefaultAllocator();
+  cv::Mat::setDefaultAllocator(HugePageMatAllocator());
+  cv::Mat blurred, small(10, 10, CV_8UC3, cv::Scalar::all(7));
+  cv::GaussianBlur(noise, blurred, cv::Size(7, 7), 2);
+  std::vector<uint8_t> owned(size_t(6) << 20, 5);
+  cv::Mat over_owned(static_cast<int>(owned.size() / 1024), 1024, CV_8U, owned.data());
+  const cv::Mat owned_copy = over_owned.clone();
+  cv::Mat::setDefaultAllocator(opencv_own);  // for the other tests
+
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(blurred.data) % (size_t(2) << 20), 0u);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(owned_copy.data) % (size_t(2) << 20), 0u);
+  EXPECT_EQ(cv::norm(blurred, expected, cv::NORM_INF), 0);
+  EXPECT_EQ(cv::countNonZero(small.reshape(1) != 7), 0);
+  EXPECT_EQ(over_owned.data, owned.data());
+  EXPECT_EQ(cv::countNonZero(owned_copy != 5), 0);
+  // Images made before the switch back are freed by the allocator that made
+  // them (each remembers its own): releasing them here must not crash.
+  blurred.release(), small.release(), over_owned.release();
+  EXPECT_EQ(owned[0], 5);
 }
 
 }  // namespace

@@ -1,11 +1,22 @@
 #include "util/jpeg_structure.h"
 
-#include <fstream>
-#include <iterator>
+#include <cstring>
 
+#include "util/atomic_file.h"
 #include "util/check.h"
 
 namespace brdfshot {
+namespace {
+
+// The first 0xFF at or after i (n when none): memchr, because the entropy-coded
+// data of a 12 MP frame is megabytes long and walked once per frame.
+size_t NextFF(const unsigned char* b, size_t i, size_t n) {
+  if (i >= n) return n;
+  const void* p = std::memchr(b + i, 0xFF, n - i);
+  return p ? static_cast<size_t>(static_cast<const unsigned char*>(p) - b) : n;
+}
+
+}  // namespace
 
 std::string JpegStructureProblem(const std::string& bytes) {
   const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -14,7 +25,7 @@ std::string JpegStructureProblem(const std::string& bytes) {
   const std::string cut = "truncated: the file ends before its end-of-image marker (an interrupted copy?)";
   size_t i = 2;
   while (true) {
-    while (i < n && b[i] != 0xFF) ++i;  // stray bytes between segments: libjpeg skips them too
+    i = NextFF(b, i, n);  // stray bytes between segments: libjpeg skips them too
     while (i < n && b[i] == 0xFF) ++i;  // fill bytes
     if (i >= n) return cut;
     const unsigned char marker = b[i++];
@@ -29,7 +40,7 @@ std::string JpegStructureProblem(const std::string& bytes) {
     // Entropy-coded data after a start of scan: it runs to the next marker
     // that is neither a stuffed 0xFF00 nor a restart marker.
     while (true) {
-      while (i < n && b[i] != 0xFF) ++i;
+      i = NextFF(b, i, n);
       if (i + 1 >= n) return cut;
       const unsigned char next = b[i + 1];
       if (next == 0x00 || (next >= 0xD0 && next <= 0xD7) || next == 0xFF) {
@@ -42,10 +53,7 @@ std::string JpegStructureProblem(const std::string& bytes) {
 }
 
 void CheckJpegComplete(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, "cannot open");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string problem = JpegStructureProblem(bytes);
+  const std::string problem = JpegStructureProblem(ReadFileBytes(path));
   if (!problem.empty()) throw FileError(path, problem);
 }
 
