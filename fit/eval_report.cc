@@ -91,10 +91,17 @@ DefaultVersusBaselines CompareDefault(const Evaluation& ev) {
     d.beats_paper += a < per["paper"][m];
     d.within_5_percent += a <= 1.05 * std::min(per["lsq"][m], per["ours"][m]);
   }
-  std::vector<double> predicted, actual;
+  std::vector<double> predicted, sensitivity, product, actual;
   for (const LooRow& row : ev.result.rows)
-    if (row.method == "auto") predicted.push_back(row.predicted), actual.push_back(row.relit_mean);
+    if (row.method == "auto") {
+      predicted.push_back(row.predicted);
+      sensitivity.push_back(row.prior_sensitivity);
+      product.push_back(row.predicted * row.prior_sensitivity);
+      actual.push_back(row.relit_mean);
+    }
   d.spearman = SpearmanCorrelation(predicted, actual);
+  d.spearman_sensitivity = SpearmanCorrelation(sensitivity, actual);
+  d.spearman_product = SpearmanCorrelation(product, actual);
   return d;
 }
 
@@ -102,12 +109,12 @@ void WriteEvaluationCsv(const Evaluation& ev, const std::string& path) {
   WriteFileAtomic(path, [&](std::ostream& o) {
     o << "# database: " << ev.database_label << "\n";
     o << "material,group,probe,method,chosen_class,lambda,predicted,relit_mean,relit_median,relit_directional,"
-         "brdf,insample,negative_bins\n";
+         "brdf,insample,negative_bins,prior_sensitivity\n";
     for (const LooRow& row : ev.result.rows)
       o << row.material << "," << ev.group_of.at(row.material) << "," << row.probe << "," << row.method << ","
         << row.chosen_class << "," << row.lambda << "," << row.predicted << "," << row.relit_mean << ","
         << row.relit_median << "," << row.relit_directional << "," << row.brdf << "," << row.insample << ","
-        << row.negative_bins << "\n";
+        << row.negative_bins << "," << row.prior_sensitivity << "\n";
   });
 }
 
@@ -134,15 +141,17 @@ std::string EvaluationMarkdown(const Evaluation& ev, const std::string& settings
        << "): non-negative weights cannot guarantee a non-negative BRDF.\n";
   const DefaultVersusBaselines d = CompareDefault(ev);
   const double M = std::max(1, d.materials);
-  char buf[512];
+  char buf[1024];
   std::snprintf(
       buf, sizeof buf,
       "\nPer material (mean relit error over probes): auto beats plain least squares on **%d / %d** (%.0f %%), "
       "the paper as written on **%d / %d** (%.0f %%); within 1.05× the better of least squares and "
       "λ = %g on **%d / %d** (%.0f %%). Spearman rank correlation of auto's predicted and actual relit "
-      "error over all fits: **%.3f**.\n\nλ chosen by auto:",
+      "error over all fits: **%.3f** (of its prior sensitivity: %.3f; of the predicted error times the "
+      "sensitivity: %.3f).\n\nλ chosen by auto:",
       d.beats_lsq, d.materials, 100 * d.beats_lsq / M, d.beats_paper, d.materials, 100 * d.beats_paper / M,
-      fixed_lambda, d.within_5_percent, d.materials, 100 * d.within_5_percent / M, d.spearman);
+      fixed_lambda, d.within_5_percent, d.materials, 100 * d.within_5_percent / M, d.spearman,
+      d.spearman_sensitivity, d.spearman_product);
   md << buf;
   std::map<double, int> lambda_count;
   for (const LooRow& row : ev.result.rows)

@@ -29,6 +29,9 @@ struct DefaultVersusBaselines {
   int beats_lsq = 0, beats_paper = 0;
   int within_5_percent = 0;  // ≤ 1.05 × min(lsq, ours)
   double spearman = 0;       // predicted vs actual relit error of "auto", over all fits
+  // The same for auto's prior sensitivity (fit_confidence.h), and for the
+  // predicted error times it: how much ranking the sensitivity adds.
+  double spearman_sensitivity = 0, spearman_product = 0;
 };
 DefaultVersusBaselines CompareDefault(const Evaluation& ev);
 

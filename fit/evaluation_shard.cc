@@ -20,7 +20,8 @@ const std::pair<const char*, double LooRow::*> kRowNumbers[] = {
     {"lambda", &LooRow::lambda},         {"predicted", &LooRow::predicted},
     {"relit_mean", &LooRow::relit_mean}, {"relit_median", &LooRow::relit_median},
     {"brdf", &LooRow::brdf},             {"insample", &LooRow::insample},
-    {"relit_directional", &LooRow::relit_directional}, {"negative_bins", &LooRow::negative_bins}};
+    {"relit_directional", &LooRow::relit_directional}, {"negative_bins", &LooRow::negative_bins},
+    {"prior_sensitivity", &LooRow::prior_sensitivity}};
 
 nlohmann::json RowJson(const LooRow& r) {
   nlohmann::json j = {

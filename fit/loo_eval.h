@@ -110,6 +110,7 @@ struct LooRow {
   double relit_mean = 0, relit_median = 0, brdf = 0, insample = 0;
   double relit_directional = -1;  // mean over the scoring-only scenes (-1: none)
   double negative_bins = -1;      // NegativeBinShare of the fitted BRDF (-1: not counted)
+  double prior_sensitivity = -1;  // "auto": PriorSensitivity of its class and λ (fit_confidence.h; -1: none)
 };
 
 // One method's fit of one photo, as the evaluations score it.

@@ -1,5 +1,7 @@
 #include "fit/ood_eval.h"
 
+#include "fit/fit_confidence.h"
+
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
@@ -167,6 +169,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
             bases.scenes, a, [&](int b) { return TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t); }, &row);
         row.brdf = std::nan("");
         row.insample = TargetError(fa.data(), ta, m.w, t);
+        if (row.method == "auto" && bases.gram_cos.rows() == n)
+          row.prior_sensitivity = PriorSensitivity(picked, obs, choice.lambda, bases.gram_cos);
         per_target[t].push_back(row);
       }
       SetNegativeBins(bases.bin_sample, methods, &per_target[t][per_target[t].size() - methods.size()]);
