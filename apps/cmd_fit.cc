@@ -90,9 +90,9 @@ int FitMain(int argc, char** argv) {
   const FitRecord& record = r.record;
   std::printf(
       "%s\nchosen class %d, lambda %g (%s), constraint: %s (%ld bin-channels below zero clamped); predicted relit "
-      "error %.4f; per class (residual, bases, cond):",
+      "error %.4f (prior sensitivity %.3f); per class (residual, bases, cond):",
       r.label.c_str(), record.chosen_class, record.lambda, record.lambda_rule.c_str(),
-      record.weights_constraint.c_str(), r.clamped, record.predicted_relit_error);
+      record.weights_constraint.c_str(), r.clamped, record.predicted_relit_error, record.prior_sensitivity);
   for (size_t k = 0; k < record.classes.size(); ++k)
     std::printf(" [%zu] %.4g, %d, %.3g", k, record.classes[k].residual, record.classes[k].members,
                 record.classes[k].condition);

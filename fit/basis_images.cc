@@ -14,6 +14,11 @@ namespace {
 constexpr char kMagic[8] = {'B', 'S', 'H', 'O', 'T', 'B', 'I', '1'};
 }
 
+MerlGrid BasisImages::Grid() const {
+  const auto& g = header.at("grid");
+  return MerlGrid{g.at(0), g.at(1), g.at(2)};
+}
+
 std::vector<std::string> BasisImages::BasisNames() const { return header.at("bases").get<std::vector<std::string>>(); }
 
 LambertGgxLobes BasisImages::Lobes(const std::string& source) const {

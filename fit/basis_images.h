@@ -29,6 +29,7 @@ struct BasisImages {
   std::array<MatrixXfR, 3> lobes;
 
   std::vector<std::string> BasisNames() const;
+  MerlGrid Grid() const;  // the database grid the bases were tabulated on (header "grid")
   bool has_lobes() const { return lobes[0].cols() > 0; }
   LambertGgxLobes Lobes(const std::string& source) const;  // Error naming `source` when absent or bad
   void Write(const std::string& path) const;  // atomic

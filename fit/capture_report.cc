@@ -126,7 +126,13 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
        << " bases\n- regularisation λ = " << f.lambda << " ("
        << (f.lambda_rule == "fixed" ? std::string("fixed by --lambda")
                                     : "chosen by " + f.lambda_rule + " on the photo's pixels")
-       << "); predicted relit error " << Fixed(f.predicted_relit_error, 4) << "\n- chosen class **" << f.chosen_class
+       << "); predicted relit error " << Fixed(f.predicted_relit_error, 4)
+       << (f.prior_sensitivity >= 0
+               ? ", prior sensitivity " + Fixed(f.prior_sensitivity, 3) +
+                     " (how much the BRDF moves when λ moves a decade either way: large where the photo leaves it "
+                     "to the prior)"
+               : std::string())
+       << "\n- chosen class **" << f.chosen_class
        << "**, relative residual " << f.relative_residual << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary")
        << "` (MERL format), weights `" << rel(fit_json) << "`\n";
     if (f.lambert_ggx) {

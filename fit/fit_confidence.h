@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "fit/merl_grid.h"
 #include "fit/solver.h"
 
 namespace brdfshot {
@@ -20,9 +21,16 @@ namespace brdfshot {
 // √(d₋² + d₊²), d± = ‖w(λ±) − w(λ)‖_M / ‖w(λ)‖_M summed over RGB, where w(λ)
 // is the class's unconstrained solve (SolveFromSpectrum, λ_j = λ‖y_c‖²/c_j),
 // λ₋ = λ/10 and λ₊ = max(10 λ, 10⁻⁴) (λ = 0 is moved to the grid's scale).
-// `metric`: the database's BRDF Gram matrix (n × n, e.g. gram_cos), indexed by
-// the class's members. 0 for a BRDF of zero norm.
+// `metric`: the BRDF Gram matrix over the class's members (c_j × c_j, e.g.
+// gram_cos(J, J) or SampledCosineGram). 0 for a BRDF of zero norm.
 double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double lambda,
                         const Eigen::MatrixXd& metric);
+
+// Σ over every `stride`-th bin of cos²-weight × b_J b_Jᵀ (CosineWeights of
+// `grid`): the cosine-weighted BRDF Gram matrix of the bases `members`
+// estimated from a sample of the tables (bins × bases), which `fit` holds —
+// the full matrix over 1.5 M bins would cost seconds per photo.
+Eigen::MatrixXd SampledCosineGram(const MatrixXfR& tables, const MerlGrid& grid, const std::vector<int>& members,
+                                  int stride);
 
 }  // namespace brdfshot

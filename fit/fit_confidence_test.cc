@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+
+#include "fit/database.h"
 
 namespace brdfshot {
 namespace {
@@ -33,6 +36,8 @@ TEST(PriorSensitivity, OneBasisMatchesTheClosedForm) {
   const double w = 1 + 1 / 1.4, down = 1 + 1 / 1.04, up = 1 + 1 / 5.0;
   const double expected = std::hypot((down - w) / w, (up - w) / w);
   EXPECT_NEAR(PriorSensitivity(cls, obs, 0.1, 7.0 * G), expected, 1e-12);
+  EXPECT_THROW(PriorSensitivity(cls, obs, 0.1, Eigen::MatrixXd::Identity(2, 2)), std::exception)
+      << "a metric over other bases";
 }
 
 // A photo that excites both weights strongly pins them: λ barely moves the
@@ -60,6 +65,27 @@ TEST(PriorSensitivity, ZeroLambdaStepsUpToTheGridsScale) {
   for (int c = 0; c < 3; ++c) obs.z[c] = Eigen::VectorXd::Constant(1, 2.0), obs.norm2[c] = 4;
   const double w = 2, up = 1 + 1 / (1 + 4e-4);
   EXPECT_NEAR(PriorSensitivity(cls, obs, 0, G), std::abs(up - w) / w, 1e-12);
+}
+
+// Every bin (stride 1) gives database.h's GramMatrix with the cosine weights
+// over the chosen columns; every 7th bin, the same sum over those bins alone
+// (to float precision: GramMatrix sums each block of bins in float).
+TEST(SampledCosineGram, IsTheCosineWeightedGramOverTheSampledBins) {
+  const MerlGrid grid{6, 6, 12};
+  MatrixXfR B(static_cast<Eigen::Index>(grid.size()), 5);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (Eigen::Index i = 0; i < B.rows(); ++i)
+    for (Eigen::Index j = 0; j < B.cols(); ++j) B(i, j) = u(rng);
+  const std::vector<float> w = CosineWeights(grid);
+  const std::vector<int> members = {4, 1, 2};
+  const Eigen::MatrixXd full = GramMatrix(B, &w);
+  EXPECT_LT((SampledCosineGram(B, grid, members, 1) - full(members, members)).norm(), 1e-5 * full.norm());
+  MatrixXfR every7((B.rows() + 6) / 7, B.cols());
+  std::vector<float> w7;
+  for (Eigen::Index i = 0; i < B.rows(); i += 7) every7.row(i / 7) = B.row(i), w7.push_back(w[i]);
+  const Eigen::MatrixXd sampled = GramMatrix(every7, &w7);
+  EXPECT_LT((SampledCosineGram(B, grid, members, 7) - sampled(members, members)).norm(), 1e-5 * sampled.norm());
 }
 
 }  // namespace brdfshot

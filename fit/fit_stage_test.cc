@@ -67,6 +67,10 @@ TEST(FitStage, APhotoOfADatabaseMaterialIsReproducedAndWritten) {
   EXPECT_LT(r.record.relative_residual, 0.02);
   const FitRecord back = FitRecord::Read(s.o.out + "/fit.json");
   EXPECT_EQ(back.chosen_class, r.record.chosen_class);
+  // The stage holds the tables on the basis images' grid: the prior
+  // sensitivity is measured and written.
+  EXPECT_GE(r.record.prior_sensitivity, 0);
+  EXPECT_EQ(back.prior_sensitivity, r.record.prior_sensitivity);
   EXPECT_EQ(MerlBrdf::Read(s.o.out + "/brdf.binary").grid().size(), MerlGrid({10, 10, 20}).size());
   EXPECT_TRUE(fs::exists(s.o.out + "/photo_vs_fit.png"));
   // The analytic baseline beside it, read back: material 5 is demo-blue-plastic

@@ -225,9 +225,16 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.seconds_factor = 0.2;
   r.seconds_solve = 0.003;
   r.lambda_beyond_condition_bound = true;
+  r.prior_sensitivity = 0.125;
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
   EXPECT_TRUE(back.lambda_beyond_condition_bound);
+  EXPECT_EQ(back.prior_sensitivity, 0.125);
+  // A fit made without the tables has no sensitivity: none is written, and a
+  // file without one reads as not measured.
+  nlohmann::json unmeasured = r.ToJson();
+  unmeasured.erase("prior_sensitivity");
+  EXPECT_EQ(FitRecord::FromJson(unmeasured, "fit.json").prior_sensitivity, -1);
   EXPECT_TRUE(back.weights == r.weights);
   EXPECT_TRUE(std::isinf(back.classes[2].residual));
   EXPECT_TRUE(std::isinf(back.lambda_scores[2][1]));

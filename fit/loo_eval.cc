@@ -279,7 +279,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
             &row);
         row.brdf = RelativeError(gcos, meth.w, m);
         row.insample = RelativeError({&fa[0].gram, &fa[1].gram, &fa[2].gram}, meth.w, m);
-        if (row.method == "auto") row.prior_sensitivity = PriorSensitivity(picked, obs, choice.lambda, in.gram_cos);
+        if (row.method == "auto") row.prior_sensitivity = PriorSensitivity(picked, obs, choice.lambda, in.gram_cos(picked.members, picked.members));
         per_material[m].push_back(row);
       }
       SetNegativeBins(in.bin_sample, methods, &per_material[m][per_material[m].size() - methods.size()]);

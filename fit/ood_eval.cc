@@ -170,7 +170,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         row.brdf = std::nan("");
         row.insample = TargetError(fa.data(), ta, m.w, t);
         if (row.method == "auto" && bases.gram_cos.rows() == n)
-          row.prior_sensitivity = PriorSensitivity(picked, obs, choice.lambda, bases.gram_cos);
+          row.prior_sensitivity = PriorSensitivity(picked, obs, choice.lambda, bases.gram_cos(picked.members, picked.members));
         per_target[t].push_back(row);
       }
       SetNegativeBins(bases.bin_sample, methods, &per_target[t][per_target[t].size() - methods.size()]);

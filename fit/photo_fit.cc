@@ -1,5 +1,7 @@
 #include "fit/photo_fit.h"
 
+#include "fit/fit_confidence.h"
+
 #include <cmath>
 
 #include "fit/bin_constraints.h"
@@ -92,6 +94,14 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
     out.fit.classes[out.fit.chosen] = SolveClass(f, chosen, obs, out.choice.lambda, constraint);
   }
   out.seconds_table_check = check.Seconds();
+  // The BRDF metric needs the tables' grid (every basis file has one; a
+  // table without its grid, as in unit tests of the solve, gets none).
+  if (tables && basis.header.contains("grid") && basis.Grid().size() == static_cast<size_t>(tables->rows())) {
+    const Observation own = SumObservations(held);  // the choice's (without the QR's projections)
+    out.prior_sensitivity = PriorSensitivity(
+        chosen, own, out.choice.lambda,
+        SampledCosineGram(*tables, basis.Grid(), chosen.members, std::max(1, opt.constraint_stride)));
+  }
   const Eigen::MatrixXd& w = out.fit.weights();
   out.reconstruction.resize(y.rows(), 3);
   for (int c = 0; c < 3; ++c) out.reconstruction.col(c) = basis.Y[c].cast<double>() * w.col(c);
@@ -107,8 +117,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   FitRecord r;
   r.database = basis.header.value("database", "");
   r.database_kind = basis.header.value("database_kind", "");
-  const auto& g = basis.header.at("grid");
-  r.grid = MerlGrid{g.at(0), g.at(1), g.at(2)};
+  r.grid = basis.Grid();
   r.probe = basis.header.value("probe", "");
   r.photo = photo;
   r.lambda_rule = f.choice.rule;
@@ -119,6 +128,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.lambda = f.choice.lambda;
   r.lambda_beyond_condition_bound = f.choice.beyond_condition_bound;
   r.predicted_relit_error = f.choice.predicted_error;
+  r.prior_sensitivity = f.prior_sensitivity;
   r.chosen_class = f.fit.chosen;
   r.relative_residual = f.relative_residual;
   for (const ClassSolution& s : f.fit.classes) r.classes.push_back({s.members, s.residual, s.condition[1], s.path});
@@ -156,6 +166,7 @@ nlohmann::json FitRecord::ToJson() const {
   j["lambda_rule"] = lambda_rule;
   j["weights_constraint"] = weights_constraint;
   j["predicted_relit_error"] = predicted_relit_error;
+  if (prior_sensitivity >= 0) j["prior_sensitivity"] = prior_sensitivity;
   j["chosen_class"] = chosen_class;
   j["relative_residual"] = relative_residual;
   j["classes"] = nlohmann::json::array();
@@ -211,6 +222,7 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
         r.weights_constraint != ConstraintName(WeightConstraint::Kind::kBins))
       throw FileError(source, "unknown weights_constraint \"" + r.weights_constraint + "\"");
     r.predicted_relit_error = j.at("predicted_relit_error");
+    r.prior_sensitivity = j.value("prior_sensitivity", -1.0);  // absent: not measured
     r.chosen_class = j.at("chosen_class");
     r.relative_residual = j.at("relative_residual");
     for (const auto& c : j.at("classes"))

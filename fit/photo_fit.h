@@ -39,6 +39,10 @@ struct PhotoFit {
   double seconds_solve = 0;        // the photo's projections, the λ search and the solve
   double seconds_table_check = 0;  // kBins: the whole table checked for bins below zero (and re-solves)
   int negative_bins_added = 0;     // kBins: bins off the sample found below zero and constrained too
+  // How much the chosen class's BRDF moves when λ moves a decade either way
+  // (fit/fit_confidence.h; the metric from every constraint_stride-th bin of
+  // the tables); -1 when no tables (or none on the basis images' grid) were given.
+  double prior_sensitivity = -1;
   // The analytic baseline fitted to the same pixels, when the basis images
   // hold its lobes (fit/lambert_ggx.h).
   std::optional<LambertGgxFit> lambert_ggx;
@@ -71,6 +75,7 @@ struct FitRecord {
   bool lambda_beyond_condition_bound = false;  // LambdaChoice::beyond_condition_bound
   std::string weights_constraint = "none";  // ConstraintName of the chosen class's solve
   double predicted_relit_error = 0;
+  double prior_sensitivity = -1;  // PhotoFit::prior_sensitivity (-1: not measured)
   int chosen_class = -1;
   double relative_residual = 0;
   struct ClassRow {
