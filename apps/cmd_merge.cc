@@ -35,7 +35,7 @@ struct MergeArgs {
         ("response", po::value(&response_in), "reuse a response curve (JSON) instead of recovering one")
         ("save-response", po::value(&outputs.response_json), "write the recovered response curve (JSON)")
         ("align", po::bool_switch(&align), "align hand-held frames onto the middle one (rotation, shift and perspective; capture/align.h)")
-        ("deghost", po::bool_switch(&deghost), "things that moved between frames (people, leaves) taken from the middle frame alone; their mask goes to <out>_ghosts.png")
+        ("deghost", po::bool_switch(&deghost), "things that moved between frames (people, leaves) taken from the middle frame alone (where it is clipped or black, from the nearest frame that measures them); their mask goes to <out>_ghosts.png")
         ("align-model", po::value(&align_model)->default_value(align_model), "with --align: homography, or translation (median threshold bitmaps only)")
         ("wb", po::value(&wb), "RAW white balance R,G,B multipliers (default: the camera's)")
         ("mask", po::value(&outputs.mask), "mask PNG of unreliable pixels (default: <out>_mask.png)")

@@ -1,5 +1,6 @@
 #include "capture/ghosts.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -27,34 +28,60 @@ std::vector<cv::Mat> DetectGhosts(const std::vector<cv::Mat>& frames, const std:
     const double x = lin[c][z] / sat[c];
     return (noise.shot * x + noise.read) * sat[c] * sat[c] / (t * t);
   };
-  const cv::Mat& ref = frames[reference];
-  const double tr = times[reference];
-  std::vector<cv::Mat> ghosts(frames.size());
-  const cv::Mat grow = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * o.grow_px + 1, 2 * o.grow_px + 1));
-  for (size_t j = 0; j < frames.size(); ++j) {
-    cv::Mat g = cv::Mat::zeros(ref.size(), CV_8U);
-    if (static_cast<int>(j) != reference) {
-      const cv::Mat& f = frames[j];
-      const double tj = times[j];
-#pragma omp parallel for schedule(static)
-      for (int y = 0; y < ref.rows; ++y)
-        for (int x = 0; x < ref.cols; ++x)
-          for (int c = 0; c < 3; ++c) {
-            const int zr = FrameCode(ref, y, x, c), zj = FrameCode(f, y, x, c);
-            if (zr <= zlo || zr >= zhi || zj <= zlo || zj >= zhi) continue;
-            const double er = lin[c][zr] / tr, ej = lin[c][zj] / tj;
-            const double d = std::abs(ej - er);
-            if (d > o.sigmas * std::sqrt(variance(c, zr, tr) + variance(c, zj, tj)) && d > o.min_relative * er) {
-              g.at<uint8_t>(y, x) = 255;
-              break;
-            }
-          }
-      // Isolated disagreements are noise's tail, not a moving thing: opened
-      // away; what stays is grown over the thing's soft edges.
-      cv::morphologyEx(g, g, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
-      if (o.grow_px > 0) cv::dilate(g, g, grow);
+  // Frames by their distance from the reference in exposure order: where
+  // the reference is clipped (or black), the nearest frame that measures the
+  // pixel stands in for it — only shorter (or longer) frames can.
+  const int n = static_cast<int>(frames.size());
+  std::vector<int> by_exposure(n);
+  for (int j = 0; j < n; ++j) by_exposure[j] = j;
+  std::stable_sort(by_exposure.begin(), by_exposure.end(), [&](int a, int b) { return times[a] < times[b]; });
+  const int rank = static_cast<int>(std::find(by_exposure.begin(), by_exposure.end(), reference) - by_exposure.begin());
+  std::vector<int> stand_ins = {reference};
+  for (int d = 1; d < n; ++d)
+    for (int r : {rank - d, rank + d})
+      if (r >= 0 && r < n) stand_ins.push_back(by_exposure[r]);
+  auto measures = [&](int j, int y, int x) {
+    for (int c = 0; c < 3; ++c) {
+      const int z = FrameCode(frames[j], y, x, c);
+      if (z <= zlo || z >= zhi) return false;
     }
-    ghosts[j] = g;
+    return true;
+  };
+  const cv::Size size = frames[reference].size();
+  std::vector<cv::Mat> ghosts(frames.size());
+  for (cv::Mat& g : ghosts) g = cv::Mat::zeros(size, CV_8U);
+#pragma omp parallel for schedule(static)
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      int r = -1;
+      for (int j : stand_ins)
+        if (measures(j, y, x)) {
+          r = j;
+          break;
+        }
+      if (r < 0) continue;  // no frame measures every channel here
+      const double tr = times[r];
+      for (int j = 0; j < n; ++j) {
+        if (j == r) continue;
+        const double tj = times[j];
+        for (int c = 0; c < 3; ++c) {
+          const int zr = FrameCode(frames[r], y, x, c), zj = FrameCode(frames[j], y, x, c);
+          if (zj <= zlo || zj >= zhi) continue;
+          const double er = lin[c][zr] / tr, ej = lin[c][zj] / tj;
+          const double d = std::abs(ej - er);
+          if (d > o.sigmas * std::sqrt(variance(c, zr, tr) + variance(c, zj, tj)) && d > o.min_relative * er) {
+            ghosts[j].at<uint8_t>(y, x) = 255;
+            break;
+          }
+        }
+      }
+    }
+  const cv::Mat grow = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * o.grow_px + 1, 2 * o.grow_px + 1));
+  for (cv::Mat& g : ghosts) {
+    // Isolated disagreements are noise's tail, not a moving thing: opened
+    // away; what stays is grown over the thing's soft edges.
+    cv::morphologyEx(g, g, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+    if (o.grow_px > 0) cv::dilate(g, g, grow);
   }
   return ghosts;
 }

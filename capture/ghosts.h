@@ -24,8 +24,8 @@ struct GhostOptions {
   int grow_px = 2;             // a ghost region is grown by this many pixels (its soft edges)
 };
 
-// Per frame, CV_8U 255 where it disagrees with `reference` (never in the
-// reference itself). `frames` as MergeBracket's; `noise` from EstimateNoise.
+// Per frame, CV_8U 255 where it disagrees with `reference`, or with its stand-in
+// where the reference does not measure (never in the frame a pixel is taken from). `frames` as MergeBracket's; `noise` from EstimateNoise.
 std::vector<cv::Mat> DetectGhosts(const std::vector<cv::Mat>& frames, const std::vector<double>& times,
                                   const ResponseCurve& response, int reference, const NoiseModel& noise,
                                   const GhostOptions& options = {});
