@@ -24,6 +24,7 @@ struct MergeArgs {
   std::vector<std::string> inputs;
   std::string times, response_in, wb, out = "merged.exr";
   bool align = false, probe = false, deghost = false;
+  int clip_reach = -2;
   std::string align_model = "homography";
   MergeOutputs outputs;
 
@@ -45,6 +46,10 @@ struct MergeArgs {
         ("probe", po::bool_switch(&probe),
          "the bracket is a light probe: with JPEG frames, a frame does not count near a highlight clipped in two "
          "channels (JPEG lowers the third; a small sun's power comes out far too low otherwise)")
+        ("clip-reach", po::value(&clip_reach),
+         "a frame does not count within N px of a pixel it clips in two channels (0: that pixel alone; -1: each "
+         "channel clipped on its own). Default: 2 for JPEG light probes (--probe), -1 otherwise; `merge-check "
+         "--clip-reach` tells which predicts a real bracket's frames better")
         ("out,o", po::value(&out)->default_value(out), "merged linear radiance (.exr)");
     // clang-format on
   }
@@ -91,6 +96,9 @@ int MergeMain(int argc, char** argv) {
   merge.align_model = args.align_model == "homography" ? AlignModel::kHomography : AlignModel::kTranslation;
   merge.is_probe = args.probe;
   merge.deghost = args.deghost;
+  if ((args.clip_reach < -1 && args.clip_reach != -2) || args.clip_reach > 64)  // -2: not given
+    throw Error("--clip-reach must be -1 … 64");
+  merge.clip_reach = args.clip_reach;
   ResponseCurve given;
   if (!args.response_in.empty())
     given = ResponseCurve::FromJson(ReadJsonFile(args.response_in), args.response_in), merge.response = &given;

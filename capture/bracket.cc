@@ -212,7 +212,7 @@ MergedBracket MergeReadBracket(Bracket b, const BracketMergeOptions& opt) {
   }
   out.seconds.align = align_clock.Seconds();
   CheckBracketMeasured(b);
-  const int clip_reach = ClipReachFor(b, opt.is_probe);
+  const int clip_reach = opt.clip_reach >= -1 ? opt.clip_reach : ClipReachFor(b, opt.is_probe);
   const Stopwatch response_clock;
   if (opt.response)
     out.response = *opt.response;

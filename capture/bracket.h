@@ -61,6 +61,10 @@ struct BracketMergeOptions {
   AlignModel align_model = AlignModel::kHomography;
   bool deghost = false;   // things that moved between frames taken from the middle frame (capture/ghosts.h)
   bool is_probe = false;  // ClipReachFor
+  // Overrides ClipReachFor when ≥ −1 (−1: each channel clipped on its own;
+  // N ≥ 0: a frame does not count within N px of a pixel it clips in two
+  // channels). Below −1: ClipReachFor decides.
+  int clip_reach = -2;
   const ResponseCurve* response = nullptr;  // reuse instead of recovering
 };
 

@@ -59,6 +59,36 @@ TEST(Bracket, ReadsFramesAndTimesAndMergesToTheSceneUpToScale) {
   EXPECT_EQ(m.sidecar.clip_reach, -1);
 }
 
+// Where the longest frame clips two channels, its third can be wrong too
+// (halation, blooming, JPEG's chroma blocks): there it is lowered from 89 to
+// 60. Per-channel clipping (the default for a photo) lets it pull the merged
+// blue down; a clip reach given in the options overrides the default, the
+// shorter frames measure that pixel, and the sidecar records the reach.
+TEST(Bracket, AGivenClipReachKeepsAFramesThirdChannelOutNearItsClippedOnes) {
+  FrameFolder d("brdfshot_bracket_clip_reach");
+  for (double t : {0.25, 0.5, 1.0}) {
+    cv::Mat bgr = Shot(t);
+    if (t == 1.0) bgr(cv::Rect(10, 10, 4, 4)).setTo(cv::Scalar(60, 255, 255));  // BGR: red and green clipped
+    d.Add(bgr, t);
+  }
+  BracketReadOptions read;
+  read.times_path = d.TimesPath();
+  const Bracket b = ReadBracket(d.files, read);
+  BracketMergeOptions per_channel, reach;
+  reach.clip_reach = 1;
+  const MergedBracket plain = MergeReadBracket(b, per_channel), kept = MergeReadBracket(b, reach);
+  EXPECT_EQ(plain.sidecar.clip_reach, -1);
+  EXPECT_EQ(kept.sidecar.clip_reach, 1);
+  // Blue at x = 11 against x = 28, where nothing is clipped: the scene's ratio.
+  const double want = (20.0 + 200.0 * 11 / 32) / (20.0 + 200.0 * 28 / 32);
+  auto ratio = [](const MergedBracket& m) {
+    return m.merge.radiance.at<cv::Vec3f>(12, 11)[2] / m.merge.radiance.at<cv::Vec3f>(12, 28)[2];
+  };
+  EXPECT_NEAR(ratio(kept), want, 0.05 * want);
+  EXPECT_LT(ratio(plain), 0.95 * want) << "per channel, the lowered blue pulls the merge down";
+  EXPECT_LT(std::abs(ratio(kept) - want), 0.5 * std::abs(ratio(plain) - want)) << ratio(kept) << " " << ratio(plain);
+}
+
 // The outputs read back as written: the EXR is the merged radiance, the
 // sidecar names the outputs and the frames, the mask is the merge's. A half
 // float that cannot hold the radiance is refused before anything is written.

@@ -38,10 +38,12 @@ int NearestCode(const std::vector<double>& lin, double v) {
 
 }  // namespace
 
-MergeAndResponse OurMerge(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times) {
-  const ResponseCurve r = RecoverResponse(rgb8, times);
+MergeAndResponse OurMerge(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times, int clip_reach) {
+  const ResponseCurve r = RecoverResponse(rgb8, times, 3, 200000, clip_reach);
+  MergeOptions opt;
+  opt.clip_reach = clip_reach;
   MergeAndResponse out;
-  out.radiance = MergeBracket(rgb8, times, r).radiance;
+  out.radiance = MergeBracket(rgb8, times, r, opt).radiance;
   for (int c = 0; c < 3; ++c)
     for (int z = 0; z < r.levels; ++z) out.lin[c].push_back(r.Linear(c, z));
   return out;
@@ -147,14 +149,17 @@ double ChromaSpeckle(const cv::Mat& radiance, double dark_quantile, double dista
   return n ? static_cast<double>(far) / n : 0;
 }
 
-MergeCheck CheckMerges(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times) {
+MergeCheck CheckMerges(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times, int clip_reach) {
   for (const cv::Mat& f : rgb8)
     if (f.type() != CV_8UC3) throw Error("checking a merge needs 8-bit frames (JPEG, PNG, TIFF), not RAW or 16-bit");
   MergeCheck c;
-  c.ours = LeaveOneFrameOut(rgb8, times, OurMerge);
+  const BracketMerger ours = [clip_reach](const std::vector<cv::Mat>& f, const std::vector<double>& t) {
+    return OurMerge(f, t, clip_reach);
+  };
+  c.ours = LeaveOneFrameOut(rgb8, times, ours);
   c.opencv = LeaveOneFrameOut(rgb8, times, OpenCvDebevecMerge);
   Stopwatch sw;
-  c.ours_speckle = ChromaSpeckle(OurMerge(rgb8, times).radiance);
+  c.ours_speckle = ChromaSpeckle(OurMerge(rgb8, times, clip_reach).radiance);
   c.ours_seconds = sw.Seconds();
   Stopwatch sc;
   c.opencv_speckle = ChromaSpeckle(OpenCvDebevecMerge(rgb8, times).radiance);

@@ -33,8 +33,10 @@ using BracketMerger =
     std::function<MergeAndResponse(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times)>;
 
 // Our merge (RecoverResponse, MergeBracket with its defaults) and OpenCV's
-// (CalibrateDebevec + MergeDebevec), for 8-bit RGB frames.
-MergeAndResponse OurMerge(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times);
+// (CalibrateDebevec + MergeDebevec), for 8-bit RGB frames. `clip_reach`: as
+// MergeOptions' (−1: each channel clipped on its own, the default for frames
+// that are not a JPEG light probe's).
+MergeAndResponse OurMerge(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times, int clip_reach = -1);
 MergeAndResponse OpenCvDebevecMerge(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times);
 
 struct LeftOutFrame {
@@ -64,7 +66,8 @@ struct MergeCheck {
 };
 
 // 8-bit RGB frames only (a merge of RAW frames has no response to check).
-MergeCheck CheckMerges(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times);
+// `clip_reach`: our merge's (OurMerge).
+MergeCheck CheckMerges(const std::vector<cv::Mat>& rgb8, const std::vector<double>& times, int clip_reach = -1);
 
 // The check as a markdown table: a row per left-out frame and method, then
 // the medians over frames and the speckle.

@@ -32,6 +32,9 @@ std::vector<cv::Mat> Bracket(const cv::Mat& e, const std::vector<double>& times)
   return frames;
 }
 
+// Our merge with its defaults, as a BracketMerger.
+const BracketMerger kOurs = [](const std::vector<cv::Mat>& f, const std::vector<double>& t) { return OurMerge(f, t); };
+
 }  // namespace
 
 // A grey image has no speckle; one in which every 25th dark pixel is pure red
@@ -57,7 +60,7 @@ TEST(ChromaSpeckle, CountsIsolatedHuesAmongTheDarkestPixels) {
 TEST(LeaveOneFrameOut, ACleanBracketPredictsEachFrameAndAShiftedFrameShows) {
   const std::vector<double> times = {0.25, 0.5, 1, 2, 4};
   std::vector<cv::Mat> frames = Bracket(Scene({160, 120}), times);
-  const std::vector<LeftOutFrame> clean = LeaveOneFrameOut(frames, times, OurMerge);
+  const std::vector<LeftOutFrame> clean = LeaveOneFrameOut(frames, times, kOurs);
   ASSERT_EQ(clean.size(), 3u) << "all but the shortest and the longest";
   for (const LeftOutFrame& f : clean) {
     EXPECT_GT(f.pixels, 1000);
@@ -68,10 +71,10 @@ TEST(LeaveOneFrameOut, ACleanBracketPredictsEachFrameAndAShiftedFrameShows) {
   cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 0);
   cv::warpAffine(frames[2], shifted, m, frames[2].size(), cv::INTER_NEAREST, cv::BORDER_REPLICATE);
   frames[2] = shifted;
-  const std::vector<LeftOutFrame> moved = LeaveOneFrameOut(frames, times, OurMerge);
+  const std::vector<LeftOutFrame> moved = LeaveOneFrameOut(frames, times, kOurs);
   const auto& f2 = *std::find_if(moved.begin(), moved.end(), [](const LeftOutFrame& f) { return f.frame == 2; });
   EXPECT_GT(f2.code_error[0], 2 * std::max(1.0, clean[1].code_error[0]));
-  EXPECT_THROW(LeaveOneFrameOut({frames[0], frames[1]}, {0.25, 0.5}, OurMerge), Error);
+  EXPECT_THROW(LeaveOneFrameOut({frames[0], frames[1]}, {0.25, 0.5}, kOurs), Error);
 }
 
 }  // namespace brdfshot

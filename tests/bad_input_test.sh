@@ -54,6 +54,7 @@ discs "$T/scene1.ppm" 96 72 "30 30 15"; discs "$T/scene2.ppm" 96 72 "70 50 10 20
 row align-other-scene "scene1.ppm and " "$T/m.exr" "$T/scene2.ppm" -- "$B" merge "$T/scene1.ppm" "$T/scene2.ppm" --times "$T/times.txt" --align -o "$T/m.exr"
 ppm "$T/black1.ppm" 64 48 0; ppm "$T/black2.ppm" 64 48 0
 row all-black "black2.ppm: is black everywhere" "$T/m.exr" "$T/black1.ppm" -- "$B" merge "$T/black1.ppm" "$T/black2.ppm" --times "$T/times.txt" -o "$T/m.exr"
+row clip-reach-range "--clip-reach must be -1 … 64" "$T/m.exr" "$T/black1.ppm" -- "$B" merge "$T/black1.ppm" "$T/black2.ppm" --times "$T/times.txt" --clip-reach 99 -o "$T/m.exr"
 ppm "$T/small.ppm" 32 48 100
 row frame-sizes "small.ppm: is 32x48, $T/black1.ppm is 64x48" "$T/m.exr" "$T/small.ppm" -- "$B" merge "$T/black1.ppm" "$T/small.ppm" --times "$T/times.txt" -o "$T/m.exr"
 discs "$T/none.ppm" 320 240 ""
