@@ -8,12 +8,13 @@
 namespace brdfshot {
 
 std::string WritePhotoVersusFit(const BasisImages& basis, const Eigen::MatrixXd& photo,
-                                const Eigen::MatrixXd& reconstruction, const std::string& dir) {
+                                const Eigen::MatrixXd& reconstruction, const std::string& dir,
+                                const std::string& name) {
   const cv::Mat photo_img = PixelsToImage(basis.geometry, photo);
   const cv::Mat recon_img = PixelsToImage(basis.geometry, reconstruction);
   cv::Mat side;
   cv::hconcat(photo_img, recon_img, side);
-  const std::string path = dir + "/photo_vs_fit.png";
+  const std::string path = dir + "/" + name;
   WritePngTonemapped(path, side, AutoExposure(photo_img));
   return path;
 }

@@ -14,9 +14,10 @@
 
 namespace brdfshot {
 
-// `dir`/photo_vs_fit.png: the photo's pixels | the fit's reconstruction, one exposure.
+// `dir`/`name`: the photo's pixels | the fit's reconstruction, one exposure.
 std::string WritePhotoVersusFit(const BasisImages& basis, const Eigen::MatrixXd& photo,
-                                const Eigen::MatrixXd& reconstruction, const std::string& dir);
+                                const Eigen::MatrixXd& reconstruction, const std::string& dir,
+                                const std::string& name = "photo_vs_fit.png");
 
 // `dir`/relit_<probe>.png per probe: the BRDF on a 128-pixel sphere.
 std::vector<std::string> WriteRelitPreviews(const MerlBrdf& brdf, const std::vector<LatLongProbe>& probes,

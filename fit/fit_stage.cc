@@ -46,11 +46,17 @@ FitStageResult RunFitStage(const FitStageOptions& o) {
   if (r.record.lambert_ggx)  // the analytic baseline as a table too, for any MERL renderer
     LambertGgxBrdf(r.record).Write(o.out + "/lambert_ggx.binary");
 
-  // The first photo beside its reconstruction (in its own scale).
-  const Eigen::Index first = static_cast<Eigen::Index>(bases[0].geometry.size());
-  const Eigen::MatrixXd reconstruction =
-      P > 1 ? Eigen::MatrixXd(fit.reconstruction.topRows(first) / joint.scale[0]) : fit.reconstruction;
-  WritePhotoVersusFit(bases[0], pixels[0], reconstruction, o.out);
+  // Each photo beside its reconstruction, in its own scale: photo_vs_fit.png,
+  // then photo_vs_fit_2.png … for the other photos of a joint fit.
+  Eigen::Index row = 0;
+  for (size_t i = 0; i < P; ++i) {
+    const Eigen::Index n = static_cast<Eigen::Index>(bases[i].geometry.size());
+    const Eigen::MatrixXd reconstruction =
+        P > 1 ? Eigen::MatrixXd(fit.reconstruction.middleRows(row, n) / joint.scale[i]) : fit.reconstruction;
+    WritePhotoVersusFit(bases[i], pixels[i], reconstruction, o.out,
+                        i == 0 ? "photo_vs_fit.png" : "photo_vs_fit_" + std::to_string(i + 1) + ".png");
+    row += n;
+  }
   std::vector<LatLongProbe> others;
   for (const std::string& p : o.preview_probes) {
     bool own = false;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <cmath>
 #include <filesystem>
 
@@ -114,6 +116,29 @@ TEST(FitStage, APhotoOfADatabaseMaterialIsReproducedAndWritten) {
 }
 
 // A class model of other bases is refused before anything is written.
+// A joint fit shows every photo beside its own reconstruction. The second
+// capture is the first under a probe twice as bright (basis images and photo
+// doubled): each picture is tone-mapped by its own photo's exposure, so with
+// each reconstruction in its own photo's scale the two pictures are the same
+// image; a reconstruction taken from the wrong rows or scale is half as bright.
+TEST(FitStage, AJointFitShowsEveryPhotoBesideItsOwnReconstruction) {
+  Scene s;
+  BasisImages brighter = BasisImages::Read(s.o.basis[0]);
+  for (int c = 0; c < 3; ++c) brighter.Y[c] *= 2, brighter.lobes[c] *= 2;
+  brighter.Write((s.dir / "basis2.bsbi").string());
+  WriteExr((s.dir / "photo2.exr").string(), ReadHdrImage(s.o.photo[0]) * 2);
+  s.o.basis = {s.o.basis[0], (s.dir / "basis2.bsbi").string()};
+  s.o.photo = {s.o.photo[0], (s.dir / "photo2.exr").string()};
+  RunFitStage(s.o);
+  const cv::Mat first = cv::imread(s.o.out + "/photo_vs_fit.png"), second = cv::imread(s.o.out + "/photo_vs_fit_2.png");
+  ASSERT_FALSE(first.empty());
+  ASSERT_FALSE(second.empty());
+  const int w = first.cols / 2;
+  EXPECT_LE(cv::norm(first.colRange(0, w), second.colRange(0, w), cv::NORM_INF), 1) << "the photos";
+  EXPECT_LE(cv::norm(first.colRange(w, 2 * w), second.colRange(w, 2 * w), cv::NORM_INF), 1) << "the fits";
+  EXPECT_FALSE(fs::exists(s.o.out + "/photo_vs_fit_3.png"));
+}
+
 TEST(FitStage, AClassModelOfOtherBasesIsRefusedAndNothingIsWritten) {
   Scene s;
   ClassModel m = ClassModel::Read(s.o.classes);
