@@ -36,6 +36,7 @@ int BasisMain(int argc, char** argv) {
   std::string out = "basis.bsbi";
   po::options_description desc("options");
   // clang-format off
+  bool no_lobes = false;
   desc.add_options()
       ("probe,p", po::value(&o.probe)->required(), "lat-long light probe (.exr/.hdr/.pfm)")
       ("out,o", po::value(&out)->default_value(out), "basis-image cache")
@@ -48,7 +49,9 @@ int BasisMain(int argc, char** argv) {
        "0: use the quality options as given)")
       ("error-pixels", po::value(&o.error_pixels)->default_value(o.error_pixels), "with --error-target: about this many pixels carry the error")
       ("shared", po::value(&o.shared_dir), "folder of basis images shared by captures: images of an identical scene "
-       "(probe, pixel geometry, quality, database) are taken from it, new ones stored in it");
+       "(probe, pixel geometry, quality, database) are taken from it, new ones stored in it")
+      ("no-lobes", po::bool_switch(&no_lobes), "leave out the Lambert + GGX baseline's lobe images (49 of 349 columns, a third of the stage's time on the default capture); "
+       "'fit' then writes no baseline");
   // clang-format on
   db.Add(desc);
   quality.Add(desc);
@@ -57,6 +60,7 @@ int BasisMain(int argc, char** argv) {
     throw Error("--error-target must be a relative RMSE such as 0.01, or 0 to use the quality options as given");
   if (o.error_pixels <= 0) throw Error("--error-pixels must be positive");
   o.quality = quality.q;
+  o.lobes = !no_lobes;
   o.database = db.ToOptions(true);
   o.progress = true;
   const SceneBasis r = ComputeSceneBasis(o);

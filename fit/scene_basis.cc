@@ -31,7 +31,7 @@ nlohmann::json SceneKey(const SceneBasisOptions& o, const LatLongProbe& probe, c
       h = Fnv1a(&v, sizeof v, h);
     }
   key["tables_sample_hash"] = h;
-  key["lobes"] = LambertGgxLobes{}.ToJson();
+  key["lobes"] = o.lobes ? LambertGgxLobes{}.ToJson() : nlohmann::json();
   return key;
 }
 
@@ -101,10 +101,10 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
   r.seconds_operator = sw.Seconds() - r.seconds_database - r.seconds_search;
   b.Y = t.Apply(db.B);
   const LambertGgxLobes lobes;
-  b.lobes = t.Apply(lobes.Tables(db.grid));
+  if (o.lobes) b.lobes = t.Apply(lobes.Tables(db.grid));
   r.seconds_apply = sw.Seconds() - r.seconds_database - r.seconds_search - r.seconds_operator;
   b.header = BasisImagesHeader(probe, b.geometry, quality.Describe(), db, names);
-  b.header["lobes"] = lobes.ToJson();
+  if (o.lobes) b.header["lobes"] = lobes.ToJson();
   name_this_scene();
   if (r.search) {
     nlohmann::json s = {{"target", o.error_target},

@@ -24,6 +24,9 @@ struct SceneBasisOptions {
   double error_target = 0;  // > 0: choose the quality by measuring (QualitySearchOptions::target)
   int error_pixels = QualitySearchOptions{}.pixels;
   DatabaseOptions database;
+  // The Lambert + GGX baseline's lobe images beside the bases (49 more
+  // columns, a sixth of the images); off: `fit` writes no baseline.
+  bool lobes = true;
   bool progress = false;  // the quality search's reference renders, on stderr
   // Non-empty: a folder of basis images shared by captures. Images of an
   // identical scene (the same probe pixels, pixel geometry, quality or error

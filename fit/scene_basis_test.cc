@@ -96,6 +96,13 @@ TEST(SceneBasis, LobeImagesRoundTripThroughTheFileAndACutFileIsRefused) {
   a.header.erase("lobes");
   a.Write(file);
   EXPECT_FALSE(BasisImages::Read(file).has_lobes());
+  // Asked for without lobes: the same bases, no lobe images, no lobe header.
+  SceneBasisOptions without = DemoScene(probe);
+  without.lobes = false;
+  const BasisImages bare = ComputeSceneBasis(without).images;
+  EXPECT_FALSE(bare.has_lobes());
+  EXPECT_FALSE(bare.header.contains("lobes"));
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(bare.Y[c], back.Y[c]);
   fs::remove_all(dir);
 }
 
@@ -117,6 +124,9 @@ TEST(SceneBasis, IdenticalScenesShareOneRenderingAndADamagedShareIsRenderedAgain
   SceneBasisOptions other = o;
   other.probe = two;
   const SceneBasis under_two = ComputeSceneBasis(other);
+  SceneBasisOptions bare = o;
+  bare.lobes = false;
+  const SceneBasis without_lobes = ComputeSceneBasis(bare);
   std::filesystem::resize_file(first.shared_file, fs::file_size(first.shared_file) / 2);
   const SceneBasis after_damage = ComputeSceneBasis(o), after_repair = ComputeSceneBasis(o);
   fs::remove_all(dir);
@@ -126,6 +136,9 @@ TEST(SceneBasis, IdenticalScenesShareOneRenderingAndADamagedShareIsRenderedAgain
   EXPECT_TRUE(second.reused);
   EXPECT_EQ(second.shared_file, first.shared_file);
   EXPECT_FALSE(under_two.reused) << "another probe is another scene";
+  EXPECT_FALSE(without_lobes.reused) << "images without lobes are another file";
+  EXPECT_FALSE(without_lobes.images.has_lobes());
+  EXPECT_NE(without_lobes.shared_file, first.shared_file);
   EXPECT_NE(under_two.shared_file, first.shared_file);
   EXPECT_FALSE(after_damage.reused) << "a truncated shared file must be rendered again";
   EXPECT_TRUE(after_repair.reused) << "and the rendering stored again";
