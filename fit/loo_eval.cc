@@ -1,13 +1,12 @@
 #include "fit/loo_eval.h"
 
-#include "fit/fit_confidence.h"
-
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "fit/bin_constraints.h"
+#include "fit/fit_confidence.h"
 #include "util/check.h"
 #include "util/progress.h"
 

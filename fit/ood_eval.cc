@@ -1,11 +1,10 @@
 #include "fit/ood_eval.h"
 
-#include "fit/fit_confidence.h"
-
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "fit/bin_constraints.h"
+#include "fit/fit_confidence.h"
 #include "util/check.h"
 #include "util/progress.h"
 

@@ -1,10 +1,9 @@
 #include "fit/photo_fit.h"
 
-#include "fit/fit_confidence.h"
-
 #include <cmath>
 
 #include "fit/bin_constraints.h"
+#include "fit/fit_confidence.h"
 #include "normals/observation.h"
 #include "util/atomic_file.h"
 #include "util/image_io.h"
