@@ -18,7 +18,6 @@
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/image_io.h"
-#include "util/jpeg_structure.h"
 #include "util/progress.h"
 
 namespace brdfshot {
@@ -80,20 +79,8 @@ ReadFrameResult ReadFrame(const std::string& f, const BracketReadOptions& opt) {
     r.record = {{"file", f}, {"black", raw.black}, {"white", raw.white}, {"wb", raw.wb}};
     return r;
   }
-  cv::Mat bgr;
-  const int flags = cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION;
   r.jpeg = IsJpegFile(f);
-  if (r.jpeg) {
-    // Read once: the completeness check (jpeg_structure.h) and the decoder
-    // take the same bytes.
-    const std::string bytes = ReadFileBytes(f);
-    const std::string problem = JpegStructureProblem(bytes);
-    if (!problem.empty()) throw FileError(f, problem);
-    bgr = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), flags);
-  } else {
-    bgr = cv::imread(f, flags);
-  }
-  if (bgr.empty()) throw FileError(f, "cannot decode image");
+  const cv::Mat bgr = DecodeImageFile(f, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR | cv::IMREAD_IGNORE_ORIENTATION);
   if (bgr.depth() != CV_8U && bgr.depth() != CV_16U) throw FileError(f, "frames must be 8- or 16-bit");
   cv::cvtColor(bgr, r.rgb, cv::COLOR_BGR2RGB);
   try {

@@ -96,9 +96,8 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   // The BRDF metric needs the tables' grid (every basis file has one; a
   // table without its grid, as in unit tests of the solve, gets none).
   if (tables && basis.header.contains("grid") && basis.Grid().size() == static_cast<size_t>(tables->rows())) {
-    const Observation own = SumObservations(held);  // the choice's (without the QR's projections)
     out.prior_sensitivity = PriorSensitivity(
-        chosen, own, out.choice.lambda,
+        chosen, obs, out.choice.lambda,
         SampledCosineGram(*tables, basis.Grid(), chosen.members, std::max(1, opt.constraint_stride)));
   }
   const Eigen::MatrixXd& w = out.fit.weights();

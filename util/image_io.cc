@@ -29,12 +29,26 @@ std::string LowerExtension(const std::string& path) {
   return ext;
 }
 
+cv::Mat DecodeImageFile(const std::string& path, int imread_flags, const std::string& what) {
+  const std::string ext = LowerExtension(path);
+  cv::Mat bgr;
+  if (ext == ".jpg" || ext == ".jpeg") {
+    const std::string bytes = ReadFileBytes(path);
+    const std::string problem = JpegStructureProblem(bytes);
+    if (!problem.empty()) throw FileError(path, problem);
+    bgr = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())),
+                       imread_flags);
+  } else {
+    bgr = cv::imread(path, imread_flags);
+  }
+  if (bgr.empty()) throw FileError(path, "cannot decode " + what);
+  return bgr;
+}
+
 cv::Mat ReadImageRgb(const std::string& path, const std::string& what) {
   const std::string ext = LowerExtension(path);
   if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") return ReadHdrImage(path);
-  if (ext == ".jpg" || ext == ".jpeg") CheckJpegComplete(path);
-  const cv::Mat bgr = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
-  if (bgr.empty()) throw FileError(path, "cannot decode " + what);
+  const cv::Mat bgr = DecodeImageFile(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR, what);
   cv::Mat rgb;
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
   return rgb;

@@ -18,6 +18,12 @@ cv::Mat ReadHdrImage(const std::string& path);
 // FileError "<path>: cannot decode <what>" when the decoder fails.
 cv::Mat ReadImageRgb(const std::string& path, const std::string& what = "image");
 
+// An 8/16-bit image file as OpenCV decodes it with `imread_flags` (BGR order).
+// A JPEG is read once, its markers walked (util/jpeg_structure.h: a cut frame
+// would otherwise decode with grey rows) and the same bytes decoded.
+// FileError "<path>: cannot decode <what>" when the decoder fails.
+cv::Mat DecodeImageFile(const std::string& path, int imread_flags, const std::string& what = "image");
+
 // ".exr" of "a/B.EXR": the extension, lower-cased, with its dot ("" when none).
 std::string LowerExtension(const std::string& path);
 
