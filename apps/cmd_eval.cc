@@ -42,7 +42,6 @@ struct EvalArgs {
         ("constraint", po::value(&constraint)->default_value(constraint), "what the auto method keeps non-negative: bins, weights or none")
         ("folds", po::value(&eo.folds)->default_value(eo.folds), "wedges for the auto method's cross-validation")
         ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
-        ("max-condition", po::value(&loo.choice.max_condition)->default_value(loo.choice.max_condition), "auto: λ values beyond this condition number of G_JJ + λ_j I are not candidates")
         ("lambda-grid", po::value(&grid), "comma-separated λ values the auto method chooses among (default: 0 … 10)")
         ("targets", po::value(&eo.targets_kind), "evaluate on another database's materials instead of leaving each out "
          "(e.g. standin: the analytic stand-ins, none of them in MERL), fitted with all of --db's bases")
@@ -53,12 +52,14 @@ struct EvalArgs {
         ("shard", po::value(&shard), "i/n: run only every n-th material, from the i-th (0-based), and write <out>/eval_shard_i_of_n.json")
         ("merge", po::value(&merge), "comma-separated shard files of one run: write the tables of all of them");
     // clang-format on
+    AddConditionBoundOptions(desc, &loo.choice);
     db.Add(desc);
     quality.Add(desc);
   }
 
   EvaluationOptions ToOptions() {
     if (!grid.empty()) eo.loo.choice.grid = ParseLambdaGrid(grid);
+    CheckConditionBound(eo.loo.choice);
     eo.loo.constraint = ParseConstraint(constraint);
     eo.directional = !no_directional;
     eo.quality = quality.q;

@@ -36,8 +36,6 @@ struct FitArgs {
          "how the regularisation weight is chosen: cv (held-out wedges of the sphere), gcv, or fixed (--lambda)")
         ("lambda", po::value(&lambda), "fix the regularisation weight (the paper's: 0.5); implies --lambda-rule fixed")
         ("folds", po::value(&fo.folds)->default_value(fo.folds), "wedges for --lambda-rule cv")
-        ("max-condition", po::value(&fo.lambda.max_condition)->default_value(fo.lambda.max_condition),
-         "a λ is a candidate only while the condition number of G_JJ + λ_j I stays below this")
         ("lambda-grid", po::value(&grid), "comma-separated λ values the rule chooses among (default: 0 … 10)")
         ("constraint", po::value(&constraint)->default_value(constraint),
          "what the fit keeps non-negative: bins (the BRDF at every 31st bin; default), weights (every weight ≥ 0: "
@@ -45,6 +43,7 @@ struct FitArgs {
         ("out,o", po::value(&out)->default_value(out), "output folder")
         ("preview-probes", po::value(&previews), "probes to relight the result under (default: two of <data>/envmaps)");
     // clang-format on
+    AddConditionBoundOptions(desc, &fo.lambda);
     db.Add(desc);
     quality.Add(desc);
   }
@@ -62,7 +61,7 @@ struct FitArgs {
       throw Error("unknown --lambda-rule '" + l.rule + "': cv, gcv or fixed");
     if (l.rule == "fixed" && lambda < 0) l.fixed = 0.5;
     if (o.fit.folds < 2) throw Error("--folds must be at least 2");
-    if (!(l.max_condition >= 1)) throw Error("--max-condition must be at least 1");
+    CheckConditionBound(l);
     if (!grid.empty()) l.grid = ParseLambdaGrid(grid);
     o.fit.constraint = ParseConstraint(constraint);
     o.basis = SplitList(basis_path), o.photo = SplitList(photo_path), o.observations = SplitList(obs_path);
@@ -90,9 +89,10 @@ int FitMain(int argc, char** argv) {
   const FitRecord& record = r.record;
   std::printf(
       "%s\nchosen class %d, lambda %g (%s), constraint: %s (%ld bin-channels below zero clamped); predicted relit "
-      "error %.4f (prior sensitivity %.3f); per class (residual, bases, cond):",
+      "error %.4f (prior sensitivity %.3f); pixel noise %.2e of the photo's RMS, condition bound %.3g; per class (residual, bases, cond):",
       r.label.c_str(), record.chosen_class, record.lambda, record.lambda_rule.c_str(),
-      record.weights_constraint.c_str(), r.clamped, record.predicted_relit_error, record.prior_sensitivity);
+      record.weights_constraint.c_str(), r.clamped, record.predicted_relit_error, record.prior_sensitivity,
+      record.relative_noise, record.condition_bound);
   for (size_t k = 0; k < record.classes.size(); ++k)
     std::printf(" [%zu] %.4g, %d, %.3g", k, record.classes[k].residual, record.classes[k].members,
                 record.classes[k].condition);

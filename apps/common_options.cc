@@ -91,6 +91,32 @@ std::vector<double> ParseLambdaGrid(const std::string& text) {
   return grid;
 }
 
+void AddConditionBoundOptions(po::options_description& d, LambdaChoiceOptions* choice) {
+  // clang-format off
+  d.add_options()
+      ("max-condition", po::value(&choice->max_condition)->default_value(choice->max_condition),
+       "a λ is a candidate only while the condition number of G_JJ + λ_j I stays below this; 0: from the photo's "
+       "pixel noise (docs/method.md, \"The condition bound\")")
+      ("noise-margin", po::value(&choice->noise_bound.margin)->default_value(choice->noise_bound.margin),
+       "with --max-condition 0: the bound is (m/ε)², ε the photo's pixel noise relative to its RMS: a direction of "
+       "the weights is trusted down to an amplitude of ε/m")
+      ("min-condition", po::value(&choice->noise_bound.min_bound)->default_value(choice->noise_bound.min_bound),
+       "with --max-condition 0: the bound is never below this");
+  // clang-format on
+}
+
+void CheckConditionBound(const LambdaChoiceOptions& choice) {
+  if (!(choice.max_condition >= 1 || choice.max_condition == 0))
+    throw Error("--max-condition must be 0 (from the photo's noise) or at least 1");
+  if (!(choice.noise_bound.margin > 0 && std::isfinite(choice.noise_bound.margin)))
+    throw Error("--noise-margin must be positive");
+  if (!(choice.noise_bound.min_bound >= 1 && choice.noise_bound.min_bound <= choice.noise_bound.max_bound)) {
+    std::ostringstream m;
+    m << "--min-condition must lie in [1, " << choice.noise_bound.max_bound << "]";
+    throw Error(m.str());
+  }
+}
+
 void QualityArgs::Add(po::options_description& d) {
   // clang-format off
   d.add_options()

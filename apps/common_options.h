@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fit/database.h"
+#include "fit/lambda_choice.h"
 #include "fit/solver.h"
 #include "fit/transport.h"
 
@@ -38,6 +39,12 @@ double FocalLengthPx(double focal_px, double focal_35mm, cv::Size photo, const s
 
 // "0,0.01,0.1,1": λ values, each finite and ≥ 0; Error quoting the text otherwise.
 std::vector<double> ParseLambdaGrid(const std::string& text);
+
+// --max-condition, --noise-margin, --min-condition: the condition bound of
+// the λ search (fit/lambda_choice.h), bound to `choice`.
+void AddConditionBoundOptions(boost::program_options::options_description& d, LambdaChoiceOptions* choice);
+// Error naming the option whose value is out of range.
+void CheckConditionBound(const LambdaChoiceOptions& choice);
 
 // "none", "weights" or "bins" (--constraint); Error quoting the text otherwise.
 WeightConstraint::Kind ParseConstraint(const std::string& text);

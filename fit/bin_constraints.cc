@@ -92,6 +92,11 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
   std::vector<char> in(A.rows(), 0);
   Eigen::VectorXd values = v0;
   Eigen::MatrixXd K;  // from inverse(), at the first round
+  // The dual over the bins so far, grown by each round's bins instead of
+  // formed again: Q = A_C K A_Cᵀ, its linear term A_C w₀, and the last
+  // round's multipliers, from which the next round's solve starts.
+  Eigen::MatrixXd Ac(0, k), KAt(k, 0), Q(0, 0);
+  Eigen::VectorXd linear(0), mu(0);
   for (s.rounds = 0; s.rounds < max_rounds; ++s.rounds) {
     std::vector<int> negative;
     for (Eigen::Index i = 0; i < values.size(); ++i)
@@ -103,18 +108,29 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
     const size_t take = std::min<size_t>(negative.size(), static_cast<size_t>(bins_per_round));
     std::partial_sort(negative.begin(), negative.begin() + take, negative.end(),
                       [&](int a, int b) { return values[a] < values[b]; });
-    for (size_t i = 0; i < take; ++i) rows.push_back(negative[i]), in[negative[i]] = 1;
+    negative.resize(take);
+    for (int i : negative) rows.push_back(i), in[i] = 1;
     if (K.size() == 0) {
       K = inverse();
       BRDFSHOT_CHECK(K.rows() == k && K.cols() == k, "ConstrainToNonNegativeBins: the inverse's size differs");
     }
-    // The dual over the bins so far: Q = A_C K A_Cᵀ, its linear term A_C w₀.
-    const Eigen::MatrixXd Ac = A.Rows(rows);
-    const Eigen::MatrixXd KAt = K * Ac.transpose();
-    const Eigen::MatrixXd Q = Ac * KAt;
-    const NonNegativeResult mu = SolveNonNegative(Q, -(Ac * w0));
-    s.w = w0 + KAt * mu.x;
-    s.active = static_cast<int>((mu.x.array() > 0).count());
+    const Eigen::Index old = Ac.rows(), r = old + static_cast<Eigen::Index>(take);
+    const Eigen::MatrixXd new_rows = A.Rows(negative);
+    const Eigen::MatrixXd new_KAt = K * new_rows.transpose();
+    Ac.conservativeResize(r, Eigen::NoChange);
+    Ac.bottomRows(r - old) = new_rows;
+    KAt.conservativeResize(Eigen::NoChange, r);
+    KAt.rightCols(r - old) = new_KAt;
+    Q.conservativeResize(r, r);
+    Q.rightCols(r - old) = Ac * new_KAt;
+    Q.bottomLeftCorner(r - old, old) = Q.topRightCorner(old, r - old).transpose();
+    linear.conservativeResize(r);
+    linear.tail(r - old) = -(new_rows * w0);
+    mu.conservativeResize(r);
+    mu.tail(r - old).setZero();
+    mu = SolveNonNegative(Q, linear, 1e-10, 0, &mu).x;
+    s.w = w0 + KAt * mu;
+    s.active = static_cast<int>((mu.array() > 0).count());
     values = A.Times(s.w);  // one column
   }
   // The active bins sit at zero only up to the dual's rounding (~1e-11 of

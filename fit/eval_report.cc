@@ -109,12 +109,12 @@ void WriteEvaluationCsv(const Evaluation& ev, const std::string& path) {
   WriteFileAtomic(path, [&](std::ostream& o) {
     o << "# database: " << ev.database_label << "\n";
     o << "material,group,probe,method,chosen_class,lambda,predicted,relit_mean,relit_median,relit_directional,"
-         "brdf,insample,negative_bins,prior_sensitivity\n";
+         "brdf,insample,negative_bins,prior_sensitivity,condition_bound\n";
     for (const LooRow& row : ev.result.rows)
       o << row.material << "," << ev.group_of.at(row.material) << "," << row.probe << "," << row.method << ","
         << row.chosen_class << "," << row.lambda << "," << row.predicted << "," << row.relit_mean << ","
         << row.relit_median << "," << row.relit_directional << "," << row.brdf << "," << row.insample << ","
-        << row.negative_bins << "," << row.prior_sensitivity << "\n";
+        << row.negative_bins << "," << row.prior_sensitivity << "," << row.condition_bound << "\n";
   });
 }
 

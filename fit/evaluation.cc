@@ -7,11 +7,28 @@
 #include "calib/sun_probe.h"
 #include "fit/class_model.h"
 #include "fit/lambda_choice.h"
+#include "fit/photo_noise.h"
 #include "fit/ood_eval.h"
 #include "util/check.h"
 #include "util/progress.h"
 
 namespace brdfshot {
+
+namespace {
+// RelativePixelNoise of every material's photo in `images` (pixels × 3M per
+// channel; material m's channel c is column 3m + c).
+std::vector<double> PhotoNoisePerMaterial(const PixelGeometry& g, const std::array<MatrixXfR, 3>& images) {
+  const int M = static_cast<int>(images[0].cols() / 3);
+  std::vector<double> noise(M);
+#pragma omp parallel for schedule(static)
+  for (int m = 0; m < M; ++m) {
+    Eigen::MatrixXd y(images[0].rows(), 3);
+    for (int c = 0; c < 3; ++c) y.col(c) = images[c].col(3 * m + c).cast<double>();
+    noise[m] = RelativePixelNoise(g, y);
+  }
+  return noise;
+}
+}  // namespace
 
 std::vector<LatLongProbe> DirectionalScoringProbes(int width) {
   struct Sun {
@@ -131,8 +148,9 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     s.f = FactorBasisImages(Y, !scoring_only);
     if (!scoring_only) s.fold_gram = FoldGrams(Y, fold_of_pixel, opt.folds);
     std::array<MatrixXfR, 3> Yt;
+    if (ood) Yt = t.Apply(targets.B);
+    if (!scoring_only) s.photo_noise = PhotoNoisePerMaterial(geometry, ood ? Yt : Y);
     if (ood) {
-      Yt = t.Apply(targets.B);
       target_scenes.push_back(scoring_only ? MakeTargetScene(s.f, Y, Yt, one_fold, 1)
                                            : MakeTargetScene(s.f, Y, Yt, fold_of_pixel, opt.folds));
     }

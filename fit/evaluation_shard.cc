@@ -11,7 +11,7 @@
 namespace brdfshot {
 namespace {
 
-constexpr const char* kShardFormat = "brdfshot-eval-shard-1";
+constexpr const char* kShardFormat = "brdfshot-eval-shard-2";
 
 // A row's numbers by name: one list for the writer and the reader. A number
 // that does not apply is NaN (the BRDF error of a target outside the
@@ -21,7 +21,7 @@ const std::pair<const char*, double LooRow::*> kRowNumbers[] = {
     {"relit_mean", &LooRow::relit_mean}, {"relit_median", &LooRow::relit_median},
     {"brdf", &LooRow::brdf},             {"insample", &LooRow::insample},
     {"relit_directional", &LooRow::relit_directional}, {"negative_bins", &LooRow::negative_bins},
-    {"prior_sensitivity", &LooRow::prior_sensitivity}};
+    {"prior_sensitivity", &LooRow::prior_sensitivity}, {"condition_bound", &LooRow::condition_bound}};
 
 nlohmann::json RowJson(const LooRow& r) {
   nlohmann::json j = {

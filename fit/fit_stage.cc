@@ -36,7 +36,9 @@ FitStageResult RunFitStage(const FitStageOptions& o) {
   std::error_code ec;
   std::filesystem::create_directories(o.out, ec);
   if (!std::filesystem::is_directory(o.out, ec)) throw FileError(o.out, "cannot create output folder");
-  const PhotoFit fit = P > 1 ? FitPhoto(joint.basis, model, joint.y, o.fit, &tables.B, &joint.fold_of_pixel)
+  PhotoFitOptions joint_options = o.fit;
+  if (joint_options.relative_noise < 0) joint_options.relative_noise = joint.relative_noise;
+  const PhotoFit fit = P > 1 ? FitPhoto(joint.basis, model, joint.y, joint_options, &tables.B, &joint.fold_of_pixel)
                              : FitPhoto(bases[0], model, pixels[0], o.fit, &tables.B);
   FitStageResult r;
   r.record = FitRecord::From(fit, P > 1 ? joint.basis : bases[0], Joined(o.observations.empty() ? o.photo : o.observations));

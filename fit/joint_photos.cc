@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fit/lambda_choice.h"
+#include "fit/photo_noise.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -34,6 +35,7 @@ JointPhotos StackPhotos(const std::vector<BasisImages>& bases, const std::vector
   PixelGeometry& g = j.basis.geometry;
   g.width = first.geometry.width, g.height = first.geometry.height;
   Eigen::Index row = 0;
+  double noise2 = 0;
   std::string probes, probe_names;
   for (size_t i = 0; i < bases.size(); ++i) {
     const BasisImages& b = bases[i];
@@ -52,10 +54,13 @@ JointPhotos StackPhotos(const std::vector<BasisImages>& bases, const std::vector
     g.view.insert(g.view.end(), b.geometry.view.begin(), b.geometry.view.end());
     j.pixels.push_back(b.geometry.size());
     j.scale.push_back(s);
+    const double e = RelativePixelNoise(b.geometry, pixels[i]);
+    noise2 += e * e * static_cast<double>(rows);
     probes += (i ? "," : "") + b.header.value("probe", std::string());
     probe_names += (i ? "," : "") + b.header.value("probe_name", std::string());
     row += rows;
   }
+  j.relative_noise = std::sqrt(noise2 / std::max<double>(1, static_cast<double>(total)));
   j.basis.header = first.header;
   j.basis.header["probe"] = probes;
   j.basis.header["probe_name"] = probe_names;

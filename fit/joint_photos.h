@@ -18,6 +18,9 @@ struct JointPhotos {
   std::vector<size_t> pixels;      // pixels per photo
   std::vector<double> scale;       // each photo's factor: 1 / its RMS pixel value
   std::vector<int> fold_of_pixel;  // cross-validation wedges, each photo's own (WedgeFolds)
+  // RelativePixelNoise of the stack: each photo's own, pooled over the
+  // photos' pixels (each is scaled to RMS 1, so their noise adds as ε²).
+  double relative_noise = 0;
 };
 
 // Stacks the photos. Each is scaled by the inverse of its RMS pixel value, its

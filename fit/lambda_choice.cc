@@ -180,6 +180,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
                           size_t pixels, const LambdaChoiceOptions& opt) {
   LambdaChoice out;
   out.rule = opt.rule;
+  out.condition_bound = opt.max_condition;
   const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
   if (opt.rule == "fixed") {
     const ClasswiseFit fit = SolveClasswise(f, classes, obs, SolveOptions{opt.fixed});
@@ -199,6 +200,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     return out;
   }
   BRDFSHOT_CHECK(opt.rule == "cv" || opt.rule == "gcv", "unknown λ rule " << opt.rule);
+  BRDFSHOT_CHECK(opt.max_condition >= 1, "the condition bound is not resolved (ResolveConditionBound)");
   BRDFSHOT_CHECK(!opt.grid.empty());
   out.grid = opt.grid;
   const double inf = std::numeric_limits<double>::infinity();
@@ -265,6 +267,12 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   // the residual inflated to a prediction error.
   const double predicted = cv ? cv_score[out.chosen_class][chosen_l] : best * n;
   out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
+  return out;
+}
+
+LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double relative_noise) {
+  LambdaChoiceOptions out = opt;
+  if (out.max_condition <= 0) out.max_condition = ConditionBoundForNoise(relative_noise, opt.noise_bound);
   return out;
 }
 

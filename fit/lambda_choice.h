@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "fit/photo_noise.h"
 #include "fit/solver.h"
 #include "normals/sphere_geometry.h"
 
@@ -84,14 +85,14 @@ struct LambdaChoiceOptions {
   // Effective pixel count for GCV, as a fraction of the pixels (1: every pixel independent).
   double gcv_pixel_fraction = 1.0;
   // A λ is a candidate for a class only while the condition number of
-  // G_JJ + λ_j I stays below this. Held-out pixels share the photo's lighting,
-  // so they cannot see directions of w that this lighting hardly excites; an
-  // unregularised fit may swing wildly along them and relight badly under
-  // another probe. The bound keeps every direction's gain at most 1/√bound of
-  // the best-seen one's. Measured over 1e6, 1e8, 1e10 (docs/benchmarks.md):
-  // 1e10 relights noise-free observations best, but on JPEG captures the
-  // wedges then ask for λ near 0 and relight up to 6× worse; 1e6 holds on both.
-  double max_condition = 1e6;
+  // G_JJ + λ_j I stays below a bound. Held-out pixels share the photo's
+  // lighting, so they cannot see directions of w that this lighting hardly
+  // excites; an unregularised fit may swing wildly along them and relight badly
+  // under another probe. The bound keeps every direction's gain at most
+  // 1/√bound of the best-seen one's. 0: the bound follows the photo's noise
+  // (photo_noise.h, ResolveConditionBound); > 0: this bound for every photo.
+  double max_condition = 0;
+  NoiseBoundOptions noise_bound;
 };
 
 struct LambdaChoice {
@@ -110,13 +111,19 @@ struct LambdaChoice {
   // No λ of the grid kept any class within max_condition: the grid's largest
   // λ was taken instead of the criterion's pick.
   bool beyond_condition_bound = false;
+  double condition_bound = 0;  // the bound the search ran under
 };
+
+// `opt` with max_condition set for a photo whose relative pixel noise is
+// `relative_noise` (RelativePixelNoise) when it is 0 (follow the noise);
+// unchanged when it is fixed.
+LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double relative_noise);
 
 // Scores every class at every λ of the grid for `obs` and picks the best. With
 // `cv` (and the observation's per-fold parts `held`) the predicted error is the
 // held-out error of the pick, whichever rule picked. `pixels`: the observation's pixel count
 // (gcv only). With rule "fixed" the class comes from the residual at opt.fixed.
-// Grid values beyond opt.max_condition score +inf.
+// Grid values beyond opt.max_condition score +inf (it must be resolved: ≥ 1).
 // The candidate member lists: the model's classes, then (when asked) every
 // basis in `all` as one more.
 std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int>>& classes,

@@ -226,10 +226,14 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.seconds_solve = 0.003;
   r.lambda_beyond_condition_bound = true;
   r.prior_sensitivity = 0.125;
+  r.relative_noise = 0.0025;
+  r.condition_bound = 1.44e6;
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
   EXPECT_TRUE(back.lambda_beyond_condition_bound);
   EXPECT_EQ(back.prior_sensitivity, 0.125);
+  EXPECT_EQ(back.relative_noise, 0.0025);
+  EXPECT_EQ(back.condition_bound, 1.44e6);
   // A fit made without the tables has no sensitivity: none is written, and a
   // file without one reads as not measured.
   nlohmann::json unmeasured = r.ToJson();

@@ -155,7 +155,8 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
   row.method = method.name;
   row.chosen_class = method.chosen_class;
   const std::string name = method.name;
-  if (name.rfind("auto", 0) == 0) row.lambda = choice.lambda, row.predicted = choice.predicted_error;
+  if (name.rfind("auto", 0) == 0)
+    row.lambda = choice.lambda, row.predicted = choice.predicted_error, row.condition_bound = choice.condition_bound;
   if (name == "ours" || name == "paper") row.lambda = fixed_lambda;
   return row;
 }
@@ -248,7 +249,9 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members);
       const std::vector<ClassSpectrum> auto_classes =
           auto_members.size() == ours_members.size() ? ours_classes : FactorClasses(fa, auto_members);
-      const LambdaChoice choice = ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels, opt.choice);
+      const LambdaChoice choice =
+          ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
+                       ResolveConditionBound(opt.choice, in.scenes[a].PhotoNoise(m)));
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
       WeightConstraint constraint;
       constraint.kind = opt.constraint;

@@ -40,6 +40,10 @@ struct SceneFactors {  // one probe's basis images, factored
   std::array<ChannelFactor, 3> f;                         // with the QR (least squares and the singular fallback)
   std::vector<std::array<Eigen::MatrixXd, 3>> fold_gram;  // per wedge of the sphere (FoldGrams), for "auto"
   size_t pixels = 0;
+  // RelativePixelNoise (photo_noise.h) of each scored material's photo under
+  // this scene, for the condition bound of "auto"; empty: 0 (noise-free).
+  std::vector<double> photo_noise;
+  double PhotoNoise(int m) const { return photo_noise.empty() ? 0.0 : photo_noise[m]; }
 };
 
 // One scene's analytic lobe images (fit/lambert_ggx.h) against the images of
@@ -110,6 +114,7 @@ struct LooRow {
   double relit_mean = 0, relit_median = 0, brdf = 0, insample = 0;
   double relit_directional = -1;  // mean over the scoring-only scenes (-1: none)
   double negative_bins = -1;      // NegativeBinShare of the fitted BRDF (-1: not counted)
+  double condition_bound = -1;    // "auto…": the bound its λ search ran under (-1: none)
   double prior_sensitivity = -1;  // "auto": PriorSensitivity of its class and λ (fit_confidence.h; -1: none)
 };
 

@@ -18,7 +18,7 @@ Eigen::VectorXd SolveFree(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, co
 }  // namespace
 
 NonNegativeResult SolveNonNegative(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, double tolerance,
-                                   int max_iterations) {
+                                   int max_iterations, const Eigen::VectorXd* start) {
   BRDFSHOT_CHECK(H.rows() == H.cols() && H.rows() == b.size(), "SolveNonNegative: H must be square, b as long");
   const Eigen::Index n = b.size();
   NonNegativeResult r;
@@ -32,13 +32,23 @@ NonNegativeResult SolveNonNegative(const Eigen::MatrixXd& H, const Eigen::Vector
   const double ridge = 1e-13 * std::max(H.diagonal().maxCoeff(), 1e-300);
   const double threshold = tolerance * scale;
   std::vector<char> free_var(n, 0);
+  if (start) {
+    BRDFSHOT_CHECK(start->size() == n, "SolveNonNegative: the start has another size");
+    for (Eigen::Index i = 0; i < n; ++i)
+      if ((*start)[i] > 0) r.x[i] = (*start)[i], free_var[i] = 1;
+  }
   // A variable whose own solve refuses it (possible only by rounding) is not
   // offered again until the iterate moves, so the loop cannot cycle on it.
   std::vector<char> refused(n, 0);
   Eigen::VectorXd& x = r.x;
   while (r.iterations < max_iterations) {
-    // The steepest-descent variable among those held at zero.
-    const Eigen::VectorXd descent = b - H * x;
+    // The steepest-descent variable among those held at zero. x is zero off
+    // the free set, which is small beside n in the bin constraint's dual
+    // (thousands of bins, at most a class's size of them free).
+    std::vector<int> support;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (x[i] != 0) support.push_back(static_cast<int>(i));
+    const Eigen::VectorXd descent = b - H(Eigen::all, support) * x(support);
     Eigen::Index add = -1;
     double best = threshold;
     for (Eigen::Index i = 0; i < n; ++i)

@@ -29,7 +29,10 @@ struct NonNegativeResult {
 // relative precision. `tolerance`: a variable is added while its gradient
 // component is below −tolerance·max|b| (KKT within that). H must be square,
 // b as long; throws otherwise.
+// `start` (optional, ≥ 0): a point that minimises the objective over its own
+// support, e.g. the solution of the same problem with fewer variables padded
+// with zeros; the method resumes from it instead of from 0.
 NonNegativeResult SolveNonNegative(const Eigen::MatrixXd& H, const Eigen::VectorXd& b, double tolerance = 1e-10,
-                                   int max_iterations = 0 /* 0: 3·size */);
+                                   int max_iterations = 0 /* 0: 3·size */, const Eigen::VectorXd* start = nullptr);
 
 }  // namespace brdfshot

@@ -76,6 +76,32 @@ TEST(SolveNonNegative, MatchesEnumerationOfEveryActiveSet) {
   }
 }
 
+TEST(SolveNonNegative, ResumingFromASubproblemsSolutionReachesTheSameOptimum) {
+  // As the bin constraint grows its dual: the solution over the first m
+  // variables, padded with zeros, is where the solve of all n resumes.
+  std::mt19937 rng(17);
+  std::normal_distribution<double> g(0, 1);
+  for (int trial = 0; trial < 30; ++trial) {
+    const int n = 4 + trial % 5, m = 2 + trial % 3;
+    Eigen::MatrixXd A(n + 2, n);
+    for (Eigen::Index i = 0; i < A.size(); ++i) A.data()[i] = g(rng);
+    const Eigen::MatrixXd H = A.transpose() * A;
+    Eigen::VectorXd b(n);
+    for (int i = 0; i < n; ++i) b[i] = g(rng);
+    const NonNegativeResult sub = SolveNonNegative(H.topLeftCorner(m, m), b.head(m));
+    Eigen::VectorXd start = Eigen::VectorXd::Zero(n);
+    start.head(m) = sub.x;
+    const NonNegativeResult r = SolveNonNegative(H, b, 1e-10, 0, &start);
+    ASSERT_TRUE(r.converged) << trial;
+    ExpectKkt(H, b, r.x, 1e-8);
+    const double best = BruteForceOptimum(H, b);
+    EXPECT_NEAR(Objective(H, b, r.x), best, 1e-9 * (1 + std::abs(best))) << trial;
+  }
+  const Eigen::VectorXd wrong_size = Eigen::VectorXd::Zero(3);
+  EXPECT_THROW(SolveNonNegative(Eigen::MatrixXd::Identity(2, 2), Eigen::VectorXd::Ones(2), 1e-10, 0, &wrong_size),
+               std::exception);
+}
+
 TEST(SolveNonNegative, SingularSystemReachesTheOptimumOfItsDistinctColumns) {
   // Column 3 duplicates column 1: H is singular, its minimisers form a line,
   // and the optimum value is that of the problem without the duplicate.

@@ -141,7 +141,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       for (int k = 0; k < K; ++k)
         for (int c = 0; c < 3; ++c) held[k].z[c] = ta.fold_cross[k][c].col(t), held[k].norm2[c] = ta.fold_self[k][c][t];
       const LambdaChoice choice =
-          ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels, opt.choice);
+          ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels,
+                       ResolveConditionBound(opt.choice, bases.scenes[a].PhotoNoise(t)));
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes[a], obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, paper_classes[a], obs, so);
       Eigen::MatrixXd oracle(n, 3);

@@ -62,7 +62,9 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   Stopwatch solve;
   const std::vector<Observation> held = FoldObservations(basis.Y, y, fold_of_pixel, folds);
   Observation obs = SumObservations(held);
-  out.choice = ChooseLambda(f, classes, &cv_system, obs, held, basis.geometry.size(), opt.lambda);
+  out.relative_noise = opt.relative_noise >= 0 ? opt.relative_noise : RelativePixelNoise(basis.geometry, y);
+  out.choice = ChooseLambda(f, classes, &cv_system, obs, held, basis.geometry.size(),
+                            ResolveConditionBound(opt.lambda, out.relative_noise));
   std::vector<double> lambda(classes.size(), out.choice.lambda);
   out.fit = SolveClasswise(f, classes, obs, lambda);
   // The chosen class by the rule, even where another class's data residual is lower.
@@ -127,6 +129,8 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.lambda_beyond_condition_bound = f.choice.beyond_condition_bound;
   r.predicted_relit_error = f.choice.predicted_error;
   r.prior_sensitivity = f.prior_sensitivity;
+  r.relative_noise = f.relative_noise;
+  r.condition_bound = f.choice.condition_bound;
   r.chosen_class = f.fit.chosen;
   r.relative_residual = f.relative_residual;
   for (const ClassSolution& s : f.fit.classes) r.classes.push_back({s.members, s.residual, s.condition[1], s.path});
@@ -185,6 +189,8 @@ nlohmann::json FitRecord::ToJson() const {
       {"grid", lambda_grid},
       {"score_per_class", curve},
       {"beyond_condition_bound", lambda_beyond_condition_bound},
+      {"relative_pixel_noise", relative_noise},
+      {"condition_bound", condition_bound},
       {"why", lambda_beyond_condition_bound
                   ? "no lambda of the grid kept any class within the condition bound: the grid's largest, the class "
                     "scoring best there"
@@ -228,6 +234,8 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
                            c.at("path").get<std::string>()});
     r.lambda_grid = j.at("lambda_choice").at("grid").get<std::vector<double>>();
     r.lambda_beyond_condition_bound = j.at("lambda_choice").value("beyond_condition_bound", false);
+    r.relative_noise = j.at("lambda_choice").value("relative_pixel_noise", -1.0);  // absent: not recorded
+    r.condition_bound = j.at("lambda_choice").value("condition_bound", -1.0);
     for (const auto& row : j.at("lambda_choice").at("score_per_class")) {
       std::vector<double> v;
       for (const auto& x : row) v.push_back(FromFinite(x));

@@ -28,6 +28,9 @@ struct PhotoFitOptions {
   // zero are clamped when the table is written (CombineBases).
   WeightConstraint::Kind constraint = WeightConstraint::Kind::kBins;
   int constraint_stride = 31;
+  // The photo's relative pixel noise for the condition bound
+  // (LambdaChoiceOptions::max_condition 0); < 0: RelativePixelNoise of its pixels.
+  double relative_noise = -1;
 };
 
 struct PhotoFit {
@@ -43,6 +46,7 @@ struct PhotoFit {
   // (fit/fit_confidence.h; the metric from every constraint_stride-th bin of
   // the tables); -1 when no tables (or none on the basis images' grid) were given.
   double prior_sensitivity = -1;
+  double relative_noise = 0;  // the photo's, as the condition bound used it
   // The analytic baseline fitted to the same pixels, when the basis images
   // hold its lobes (fit/lambert_ggx.h).
   std::optional<LambertGgxFit> lambert_ggx;
@@ -76,6 +80,9 @@ struct FitRecord {
   std::string weights_constraint = "none";  // ConstraintName of the chosen class's solve
   double predicted_relit_error = 0;
   double prior_sensitivity = -1;  // PhotoFit::prior_sensitivity (-1: not measured)
+  // The photo's relative pixel noise and the condition bound the λ search ran
+  // under (lambda_choice.h, photo_noise.h); -1: not recorded.
+  double relative_noise = -1, condition_bound = -1;
   int chosen_class = -1;
   double relative_residual = 0;
   struct ClassRow {

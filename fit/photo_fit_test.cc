@@ -82,6 +82,31 @@ TEST(FitPhoto, NoiseRaisesTheChosenLambdaAndThePredictedError) {
   EXPECT_LT((b.reconstruction - clean).norm(), 0.5 * (noisy - clean).norm());
 }
 
+TEST(FitPhoto, TheConditionBoundFollowsThePhotosNoiseUnlessFixed) {
+  const Scene s = MakeScene();
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(12, 3);
+  for (int c = 0; c < 3; ++c) w.col(c).tail(6) << 0.3, 0.05, 0.2, 0.1, 0.25, 0.1;
+  const Eigen::MatrixXd clean = Render(s.basis, w);
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0, 0.05);
+  Eigen::MatrixXd noisy = clean;
+  for (Eigen::Index i = 0; i < noisy.size(); ++i) noisy(i) += noise(rng);
+  PhotoFitOptions opt;
+  opt.lambda.noise_bound.min_bound = 1;  // this scene's photos are too noisy for the default floor to show
+  const PhotoFit a = FitPhoto(s.basis, s.model, clean, opt, &s.tables);
+  const PhotoFit b = FitPhoto(s.basis, s.model, noisy, opt, &s.tables);
+  // The basis images carry a texture of their own, which the estimate reads
+  // as the clean photo's noise; the added noise comes on top.
+  EXPECT_GT(b.relative_noise, 1.5 * a.relative_noise);
+  for (const PhotoFit* f : {&a, &b})
+    EXPECT_DOUBLE_EQ(f->choice.condition_bound, ConditionBoundForNoise(f->relative_noise, opt.lambda.noise_bound));
+  EXPECT_LT(b.choice.condition_bound, a.choice.condition_bound);
+  // A fixed bound is taken as given, whatever the noise.
+  PhotoFitOptions fixed;
+  fixed.lambda.max_condition = 123.0;
+  EXPECT_EQ(FitPhoto(s.basis, s.model, noisy, fixed, &s.tables).choice.condition_bound, 123.0);
+}
+
 TEST(FitPhoto, BinConstraintKeepsTheWholeTableNonNegative) {
   // A truth with negative weights: its own BRDF dips below zero at some bins,
   // so the unconstrained fit (which finds it) does too; the constrained fit

@@ -103,7 +103,7 @@ void BM_SolveFixedLambda(benchmark::State& state) {
 }
 BENCHMARK(BM_SolveFixedLambda)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: GCV pick, wedge prediction
+void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: noise, bound, wedge pick
   const Problem& p = TheProblem();
   const std::vector<int> fold = WedgeFolds(p.g, 6);
   const auto f = FactorBasisImages(p.Y, false);
@@ -112,7 +112,8 @@ void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: GC
   for (auto _ : state) {
     const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
     const Observation obs = SumObservations(held);
-    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), LambdaChoiceOptions{});
+    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(),
+        ResolveConditionBound(LambdaChoiceOptions{}, RelativePixelNoise(p.g, p.y)));
     benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda));
   }
 }
@@ -139,7 +140,8 @@ void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
   for (auto _ : state) {
     const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
     const Observation obs = SumObservations(held);
-    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), LambdaChoiceOptions{});
+    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(),
+        ResolveConditionBound(LambdaChoiceOptions{}, RelativePixelNoise(p.g, p.y)));
     WeightConstraint constraint;
     constraint.kind = WeightConstraint::Kind::kBins;
     constraint.bins = &class_bins[ch.chosen_class];

@@ -69,6 +69,9 @@ grep -q '"lambda": 0.5' "$T/fitl/fit.json" && pass=$((pass+1)) || { echo "FAIL -
 check fit-bad-rule 1 "unknown --lambda-rule 'best'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-rule best -o "$T/fitb1"
 check fit-bad-grid 1 "bad --lambda-grid '0.1,x'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-grid 0.1,x -o "$T/fitb2"
 check fit-bad-folds 1 "--folds must be at least 2" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --folds 1 -o "$T/fitb3"
+check fit-bad-condition 1 "--max-condition must be 0 (from the photo's noise) or at least 1" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --max-condition 0.5 -o "$T/fitb4"
+check fit-bad-margin 1 "--noise-margin must be positive" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --noise-margin 0 -o "$T/fitb5"
+check eval-bad-min-condition 1 "--min-condition must lie in [1, 1e+10]" -- "$B" eval $DB --min-condition 1e11 -o "$T/evalb"
 check fit-bad-constraint 1 "unknown --constraint 'positive'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --constraint positive -o "$T/fitb4"
 [ ! -e "$T/fitb1" ] && [ ! -e "$T/fitb2" ] && [ ! -e "$T/fitb3" ] && [ ! -e "$T/fitb4" ] && pass=$((pass+1)) || { echo "FAIL a refused fit left an output folder"; fail=$((fail+1)); }
 # The default keeps the BRDF non-negative and says so.

@@ -1,0 +1,64 @@
+#include "fit/photo_noise.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "util/check.h"
+
+namespace brdfshot {
+
+double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
+  BRDFSHOT_CHECK(static_cast<size_t>(y.rows()) == g.size() && y.cols() == 3);
+  if (g.size() == 0) return 0;
+  // Pixel index by position, on the bounding box of the pixels.
+  const auto [x0, x1] = std::minmax_element(g.x.begin(), g.x.end());
+  const auto [y0, y1] = std::minmax_element(g.y.begin(), g.y.end());
+  const int w = *x1 - *x0 + 1, h = *y1 - *y0 + 1;
+  std::vector<int> at(static_cast<size_t>(w) * h, -1);
+  for (size_t i = 0; i < g.size(); ++i) at[static_cast<size_t>(g.y[i] - *y0) * w + (g.x[i] - *x0)] = static_cast<int>(i);
+  // The kernel's response at every pixel whose 8 neighbours are all there,
+  // per channel, in one pass over the bounding box.
+  std::array<std::vector<double>, 3> response;
+  for (auto& r : response) r.reserve(g.size());
+  const Eigen::MatrixXd yt = y.transpose();  // a pixel's RGB contiguous
+  const double* v = yt.data();
+  for (int py = 1; py + 1 < h; ++py) {
+    const int* above = &at[static_cast<size_t>(py - 1) * w];
+    const int* here = above + w;
+    const int* below = here + w;
+    for (int px = 1; px + 1 < w; ++px) {
+      const int n[9] = {above[px - 1], above[px], above[px + 1], here[px - 1], here[px],
+                        here[px + 1],  below[px - 1], below[px], below[px + 1]};
+      if (std::min({n[0], n[1], n[2], n[3], n[4], n[5], n[6], n[7], n[8]}) < 0) continue;
+      for (int c = 0; c < 3; ++c) {
+        const auto p = [&](int k) { return v[3 * static_cast<size_t>(n[k]) + c]; };
+        // [1 −2 1] ⊗ [1 −2 1]
+        const double s = (p(0) + p(2) + p(6) + p(8)) - 2 * (p(1) + p(3) + p(5) + p(7)) + 4 * p(4);
+        response[c].push_back(std::abs(s));
+      }
+    }
+  }
+  if (response[0].empty()) return 0;
+  double variance = 0;  // summed over channels
+  for (auto& r : response) {
+    const auto mid = r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2);
+    std::nth_element(r.begin(), mid, r.end());
+    // median |N(0, 36σ²)| = 0.6745 · 6σ
+    const double sigma = *mid / (6.0 * 0.674489750196);
+    variance += sigma * sigma;
+  }
+  const double mean_square = y.squaredNorm() / static_cast<double>(y.size());
+  if (!(mean_square > 0)) return 0;
+  return std::sqrt(variance / 3.0 / mean_square);
+}
+
+double ConditionBoundForNoise(double relative_noise, const NoiseBoundOptions& opt) {
+  BRDFSHOT_CHECK(opt.min_bound >= 1 && opt.max_bound >= opt.min_bound && opt.margin > 0);
+  if (!(relative_noise > 0)) return opt.max_bound;
+  const double r = opt.margin / relative_noise;
+  return std::clamp(r * r, opt.min_bound, opt.max_bound);
+}
+
+}  // namespace brdfshot
