@@ -194,8 +194,10 @@ nlohmann::json FitRecord::ToJson() const {
       {"why", lambda_beyond_condition_bound
                   ? "no lambda of the grid kept any class within the condition bound: the grid's largest, the class "
                     "scoring best there"
-              : lambda_rule == "cv"  ? "smallest held-out error over wedges of the sphere, any class"
-              : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class"
+              : lambda_rule == "cv"  ? "smallest held-out error over wedges of the sphere, any class, among the "
+                                       "lambdas within the condition bound"
+              : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class, among the lambdas "
+                                       "within the condition bound"
                                      : "given by --lambda; class by residual"}};
   j["bases"] = bases;
   j["weights"] = nlohmann::json::array();

@@ -38,10 +38,8 @@ double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y);
 
 struct NoiseBoundOptions {
   // m: how far below the pixel noise a direction's amplitude may be and
-  // still be trusted. 3 was measured (docs/benchmarks.md, "The condition
-  // bound"): on noise-free renders larger margins relight better, and every
-  // JPEG or 16-bit capture of the evaluation stays at min_bound below 3.
-  double margin = 3;
+  // still be trusted; measured (docs/benchmarks.md, "The condition bound").
+  double margin = 6;
   // The bound's range. Below: on JPEG captures the bound 1e6 relights better
   // than looser ones (their errors are not white, and the wedges cannot see
   // them); no photo gets a tighter one. Above: beyond 1e10 float basis images
