@@ -30,6 +30,11 @@ std::string Fixed(double v, int digits) {
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;
 }
+std::string Sci(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", v);
+  return buf;
+}
 
 }  // namespace
 
@@ -131,6 +136,10 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
                ? ", prior sensitivity " + Fixed(f.prior_sensitivity, 3) +
                      " (how much the BRDF moves when λ moves a decade either way: large where the photo leaves it "
                      "to the prior)"
+               : std::string())
+       << (f.lambda_rule != "fixed" && f.condition_bound > 0 && f.relative_noise >= 0
+               ? "\n- the photo's pixel noise " + Sci(f.relative_noise) + " of its RMS: λ searched within the condition bound " +
+                     Sci(f.condition_bound) + " (a noisier photo is trusted less far)"
                : std::string())
        << "\n- chosen class **" << f.chosen_class
        << "**, relative residual " << f.relative_residual << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary")

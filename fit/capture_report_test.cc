@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "fit/photo_fit.h"
 #include "util/check.h"
 #include "util/image_io.h"
 
@@ -67,6 +68,30 @@ TEST(CaptureReport, ThePageStatesTheRelitErrorAgainstTheTruthAndTheStageTimes) {
   EXPECT_NE(md.find("relative RMSE **0.5000**"), std::string::npos) << md;
   EXPECT_NE(md.find("| **all** | **3.75** |"), std::string::npos) << md;
   EXPECT_TRUE(fs::exists(r / "report" / "relit_forest.png"));
+  fs::remove_all(r);
+}
+
+// The fit's section says how far the photo was trusted: its noise and the
+// condition bound the λ search ran under, as fit.json records them.
+TEST(CaptureReport, TheFitSectionStatesThePhotosNoiseAndTheConditionBound) {
+  const fs::path r = fs::temp_directory_path() / "brdfshot_report_fit";
+  fs::remove_all(r);
+  fs::create_directories(r / "fit");
+  FitRecord f;
+  f.database = "db", f.database_kind = "standin", f.grid = MerlGrid{2, 2, 4}, f.probe = "p.exr", f.photo = "x.exr";
+  f.lambda_rule = "cv", f.lambda = 0.01, f.chosen_class = 0, f.relative_residual = 0.02;
+  f.classes = {{3, 1.0, 10, "normal"}};
+  f.lambda_grid = {0.01};
+  f.lambda_scores = {{1.0}};
+  f.bases = {"a/R", "a/G", "a/B"};
+  f.weights = Eigen::MatrixXd::Identity(3, 3);
+  f.relative_noise = 0.0049, f.condition_bound = 1.5e6;
+  f.Write((r / "fit" / "fit.json").string());
+  CaptureReportOptions o;
+  o.results = r.string();
+  const std::string md = Slurp(WriteCaptureReport(o).page);
+  EXPECT_NE(md.find("pixel noise 0.0049 of its RMS: λ searched within the condition bound 1.5e+06"), std::string::npos)
+      << md;
   fs::remove_all(r);
 }
 
