@@ -37,7 +37,7 @@ FitStageResult RunFitStage(const FitStageOptions& o) {
   std::filesystem::create_directories(o.out, ec);
   if (!std::filesystem::is_directory(o.out, ec)) throw FileError(o.out, "cannot create output folder");
   PhotoFitOptions joint_options = o.fit;
-  if (joint_options.relative_noise < 0) joint_options.relative_noise = joint.relative_noise;
+  if (!joint_options.relative_noise) joint_options.relative_noise = joint.relative_noise;
   const PhotoFit fit = P > 1 ? FitPhoto(joint.basis, model, joint.y, joint_options, &tables.B, &joint.fold_of_pixel)
                              : FitPhoto(bases[0], model, pixels[0], o.fit, &tables.B);
   FitStageResult r;

@@ -36,6 +36,7 @@ JointPhotos StackPhotos(const std::vector<BasisImages>& bases, const std::vector
   g.width = first.geometry.width, g.height = first.geometry.height;
   Eigen::Index row = 0;
   double noise2 = 0;
+  bool unknown = false;
   std::string probes, probe_names;
   for (size_t i = 0; i < bases.size(); ++i) {
     const BasisImages& b = bases[i];
@@ -55,12 +56,13 @@ JointPhotos StackPhotos(const std::vector<BasisImages>& bases, const std::vector
     j.pixels.push_back(b.geometry.size());
     j.scale.push_back(s);
     const double e = RelativePixelNoise(b.geometry, pixels[i]);
+    unknown = unknown || e < 0;
     noise2 += e * e * static_cast<double>(rows);
     probes += (i ? "," : "") + b.header.value("probe", std::string());
     probe_names += (i ? "," : "") + b.header.value("probe_name", std::string());
     row += rows;
   }
-  j.relative_noise = std::sqrt(noise2 / std::max<double>(1, static_cast<double>(total)));
+  j.relative_noise = unknown ? kUnknownNoise : std::sqrt(noise2 / std::max<double>(1, static_cast<double>(total)));
   j.basis.header = first.header;
   j.basis.header["probe"] = probes;
   j.basis.header["probe_name"] = probe_names;

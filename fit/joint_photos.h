@@ -19,7 +19,8 @@ struct JointPhotos {
   std::vector<double> scale;       // each photo's factor: 1 / its RMS pixel value
   std::vector<int> fold_of_pixel;  // cross-validation wedges, each photo's own (WedgeFolds)
   // RelativePixelNoise of the stack: each photo's own, pooled over the
-  // photos' pixels (each is scaled to RMS 1, so their noise adds as ε²).
+  // photos' pixels (each is scaled to RMS 1, so their noise adds as ε²);
+  // kUnknownNoise where any photo's cannot be measured.
   double relative_noise = 0;
 };
 

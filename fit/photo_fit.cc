@@ -62,7 +62,7 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   Stopwatch solve;
   const std::vector<Observation> held = FoldObservations(basis.Y, y, fold_of_pixel, folds);
   Observation obs = SumObservations(held);
-  out.relative_noise = opt.relative_noise >= 0 ? opt.relative_noise : RelativePixelNoise(basis.geometry, y);
+  out.relative_noise = opt.relative_noise ? *opt.relative_noise : RelativePixelNoise(basis.geometry, y);
   out.choice = ChooseLambda(f, classes, &cv_system, obs, held, basis.geometry.size(),
                             ResolveConditionBound(opt.lambda, out.relative_noise));
   std::vector<double> lambda(classes.size(), out.choice.lambda);

@@ -29,8 +29,8 @@ struct PhotoFitOptions {
   WeightConstraint::Kind constraint = WeightConstraint::Kind::kBins;
   int constraint_stride = 31;
   // The photo's relative pixel noise for the condition bound
-  // (LambdaChoiceOptions::max_condition 0); < 0: RelativePixelNoise of its pixels.
-  double relative_noise = -1;
+  // (LambdaChoiceOptions::max_condition 0); none: RelativePixelNoise of its pixels.
+  std::optional<double> relative_noise;
 };
 
 struct PhotoFit {
@@ -46,7 +46,7 @@ struct PhotoFit {
   // (fit/fit_confidence.h; the metric from every constraint_stride-th bin of
   // the tables); -1 when no tables (or none on the basis images' grid) were given.
   double prior_sensitivity = -1;
-  double relative_noise = 0;  // the photo's, as the condition bound used it
+  double relative_noise = 0;  // the photo's, as the condition bound used it (kUnknownNoise: not measurable)
   // The analytic baseline fitted to the same pixels, when the basis images
   // hold its lobes (fit/lambert_ggx.h).
   std::optional<LambertGgxFit> lambert_ggx;

@@ -11,7 +11,7 @@ namespace brdfshot {
 
 double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
   BRDFSHOT_CHECK(static_cast<size_t>(y.rows()) == g.size() && y.cols() == 3);
-  if (g.size() == 0) return 0;
+  if (g.size() == 0) return kUnknownNoise;
   // Pixel index by position, on the bounding box of the pixels.
   const auto [x0, x1] = std::minmax_element(g.x.begin(), g.x.end());
   const auto [y0, y1] = std::minmax_element(g.y.begin(), g.y.end());
@@ -40,7 +40,7 @@ double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
       }
     }
   }
-  if (response[0].empty()) return 0;
+  if (response[0].empty()) return kUnknownNoise;
   double variance = 0;  // summed over channels
   for (auto& r : response) {
     const auto mid = r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2);
@@ -50,13 +50,14 @@ double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
     variance += sigma * sigma;
   }
   const double mean_square = y.squaredNorm() / static_cast<double>(y.size());
-  if (!(mean_square > 0)) return 0;
+  if (!(mean_square > 0)) return kUnknownNoise;
   return std::sqrt(variance / 3.0 / mean_square);
 }
 
 double ConditionBoundForNoise(double relative_noise, const NoiseBoundOptions& opt) {
   BRDFSHOT_CHECK(opt.min_bound >= 1 && opt.max_bound >= opt.min_bound && opt.margin > 0);
-  if (!(relative_noise > 0)) return opt.max_bound;
+  if (!(relative_noise >= 0)) return opt.min_bound;
+  if (relative_noise == 0) return opt.max_bound;
   const double r = opt.margin / relative_noise;
   return std::clamp(r * r, opt.min_bound, opt.max_bound);
 }

@@ -32,8 +32,9 @@ namespace brdfshot {
 // Gaussian noise the response is N(0, 36σ²)), pooled over RGB; the kernel
 // vanishes on shading that is linear or quadratic along either axis, so a
 // smooth photo reads near zero. Only pixels whose eight neighbours are in
-// `g` count. y: pixels × 3 in g's order. 0 for a black photo or one without a
-// full 3 × 3 neighbourhood.
+// `g` count. y: pixels × 3 in g's order. kUnknownNoise where it cannot be
+// measured: a black photo, or one without a full 3 × 3 neighbourhood.
+constexpr double kUnknownNoise = -1;
 double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y);
 
 struct NoiseBoundOptions {
@@ -48,7 +49,8 @@ struct NoiseBoundOptions {
   double min_bound = 1e6, max_bound = 1e10;
 };
 
-// clamp((m/ε)², min_bound, max_bound); max_bound for ε = 0.
+// clamp((m/ε)², min_bound, max_bound); max_bound for ε = 0 (noise-free);
+// min_bound, the cautious end, for an unknown noise (ε < 0).
 double ConditionBoundForNoise(double relative_noise, const NoiseBoundOptions& opt = {});
 
 }  // namespace brdfshot

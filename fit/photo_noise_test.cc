@@ -66,15 +66,16 @@ TEST(PhotoNoise, IsolatedHighlightsDoNotReadAsNoise) {
   EXPECT_LT(RelativePixelNoise(g, y), 1e-12);
 }
 
-TEST(PhotoNoise, BlackOrTooSmallPhotosReadZero) {
+TEST(PhotoNoise, BlackOrTooSmallPhotosReadUnknownAndGetTheCautiousBound) {
   const PixelGeometry g = Disc(10);
-  EXPECT_EQ(RelativePixelNoise(g, Eigen::MatrixXd::Zero(g.size(), 3)), 0.0);
+  EXPECT_EQ(RelativePixelNoise(g, Eigen::MatrixXd::Zero(g.size(), 3)), kUnknownNoise);
   const PixelGeometry line = [] {
     PixelGeometry l;
     for (int x = 0; x < 20; ++x) l.x.push_back(x), l.y.push_back(0);
     return l;
   }();
-  EXPECT_EQ(RelativePixelNoise(line, Eigen::MatrixXd::Ones(20, 3)), 0.0);
+  EXPECT_EQ(RelativePixelNoise(line, Eigen::MatrixXd::Ones(20, 3)), kUnknownNoise);
+  EXPECT_EQ(ConditionBoundForNoise(kUnknownNoise), NoiseBoundOptions{}.min_bound);
 }
 
 TEST(PhotoNoise, TheBoundIsTheMarginOverTheNoiseSquaredWithinItsRange) {
