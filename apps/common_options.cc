@@ -96,7 +96,7 @@ void AddConditionBoundOptions(po::options_description& d, LambdaChoiceOptions* c
   d.add_options()
       ("max-condition", po::value(&choice->max_condition)->default_value(choice->max_condition),
        "a λ is a candidate only while the condition number of G_JJ + λ_j I stays below this; 0: from the photo's "
-       "pixel noise (docs/method.md, \"The condition bound\")")
+       "pixel noise (docs/method.md)")
       ("noise-margin", po::value(&choice->noise_bound.margin)->default_value(choice->noise_bound.margin),
        "with --max-condition 0: the bound is (m/ε)², ε the photo's pixel noise relative to its RMS: a direction of "
        "the weights is trusted down to an amplitude of ε/m")

@@ -88,8 +88,7 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
   const Eigen::VectorXd v0 = given_v0 ? *given_v0 : Eigen::VectorXd(A.Times(w0));
   BRDFSHOT_CHECK(v0.size() == A.rows());
   const double threshold = -tolerance * std::max(v0.maxCoeff(), 1e-300);
-  std::vector<int> rows;  // the bins with a multiplier so far
-  std::vector<char> in(A.rows(), 0);
+  std::vector<char> in(A.rows(), 0);  // the bins with a multiplier so far
   Eigen::VectorXd values = v0;
   Eigen::MatrixXd K;  // from inverse(), at the first round
   // The dual over the bins so far, grown by each round's bins instead of
@@ -109,7 +108,7 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
     std::partial_sort(negative.begin(), negative.begin() + take, negative.end(),
                       [&](int a, int b) { return values[a] < values[b]; });
     negative.resize(take);
-    for (int i : negative) rows.push_back(i), in[i] = 1;
+    for (int i : negative) in[i] = 1;
     if (K.size() == 0) {
       K = inverse();
       BRDFSHOT_CHECK(K.rows() == k && K.cols() == k, "ConstrainToNonNegativeBins: the inverse's size differs");

@@ -7,8 +7,8 @@
 #include "calib/sun_probe.h"
 #include "fit/class_model.h"
 #include "fit/lambda_choice.h"
-#include "fit/photo_noise.h"
 #include "fit/ood_eval.h"
+#include "fit/photo_noise.h"
 #include "util/check.h"
 #include "util/progress.h"
 
