@@ -9,8 +9,8 @@
 
 namespace brdfshot {
 
-// The methods of an evaluation, in table order: the default first, the
-// floor (oracle) last.
+// The methods of an evaluation, in table order: the order they first appear
+// in, the floor (relit-oracle) last.
 std::vector<std::string> EvaluationMethods(const Evaluation& ev);
 
 // Per-method aggregates over the rows.
@@ -34,6 +34,19 @@ struct DefaultVersusBaselines {
   double spearman_sensitivity = 0, spearman_product = 0;
 };
 DefaultVersusBaselines CompareDefault(const Evaluation& ev);
+
+// Two photos against one (LooOptions::joint): every "auto-joint" row against
+// the two "auto-one" rows of its pair, all scored under the probes neither
+// photo was taken under.
+struct JointVersusSingle {
+  int pairs = 0;
+  int beats_both = 0;  // the joint fit's relit error below both single photos'
+  int beats_mean = 0;  // below the mean of the two
+  double median_joint = -1, median_one = -1;                          // relit error
+  double median_joint_directional = -1, median_one_directional = -1;  // under the suns
+  int materials = 0, materials_beating_mean = 0;  // per material, mean over its pairs
+};
+JointVersusSingle CompareJoint(const Evaluation& ev);
 
 void WriteEvaluationCsv(const Evaluation& ev, const std::string& path);  // atomic
 // `settings`: one line describing how the evaluation was run.

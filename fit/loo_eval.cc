@@ -7,6 +7,7 @@
 
 #include "fit/bin_constraints.h"
 #include "fit/fit_confidence.h"
+#include "fit/photo_noise.h"
 #include "util/check.h"
 #include "util/progress.h"
 
@@ -106,6 +107,50 @@ std::vector<double> NegativeBinShares(const MatrixXfR& bins, const Eigen::Matrix
 }
 
 double NegativeBinShare(const MatrixXfR& bins, const Eigen::MatrixXd& w) { return NegativeBinShares(bins, w)[0]; }
+
+JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, int m) {
+  BRDFSHOT_CHECK(!a.scoring_only && !b.scoring_only && a.fold_gram.size() == b.fold_gram.size(),
+                 "a joint fit needs two fitted scenes with the same folds");
+  const auto rms2 = [m](const SceneFactors& s) {
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) sum += s.f[c].gram(3 * m + c, 3 * m + c);
+    return sum / (3.0 * static_cast<double>(std::max<size_t>(1, s.pixels)));
+  };
+  const double ra = rms2(a), rb = rms2(b);
+  BRDFSHOT_CHECK(ra > 0 && rb > 0, "a photo of the joint fit is black");
+  const double sa = 1 / ra, sb = 1 / rb;  // the squared scales: Gram matrices take s²
+  JointScene j;
+  for (int c = 0; c < 3; ++c) j.f[c].gram = sa * a.f[c].gram + sb * b.f[c].gram;
+  j.fold_gram.resize(a.fold_gram.size());
+  for (size_t k = 0; k < a.fold_gram.size(); ++k)
+    for (int c = 0; c < 3; ++c) j.fold_gram[k][c] = sa * a.fold_gram[k][c] + sb * b.fold_gram[k][c];
+  j.pixels = a.pixels + b.pixels;
+  const double ea = a.PhotoNoise(m), eb = b.PhotoNoise(m);
+  j.photo_noise = ea < 0 || eb < 0 ? kUnknownNoise
+                                   : std::sqrt((ea * ea * static_cast<double>(a.pixels) +
+                                                eb * eb * static_cast<double>(b.pixels)) /
+                                               static_cast<double>(std::max<size_t>(1, j.pixels)));
+  return j;
+}
+
+std::vector<Observation> HeldObservations(const std::vector<std::array<Eigen::MatrixXd, 3>>& fold_gram, int m) {
+  std::vector<Observation> held(fold_gram.size());
+  for (size_t k = 0; k < fold_gram.size(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      held[k].z[c] = fold_gram[k][c].col(3 * m + c);
+      held[k].norm2[c] = fold_gram[k][c](3 * m + c, 3 * m + c);
+    }
+  return held;
+}
+
+int JointPartner(const std::vector<SceneFactors>& scenes, int a) {
+  const int S = static_cast<int>(scenes.size());
+  for (int i = 1; i < S; ++i) {
+    const int b = (a + i) % S;
+    if (!scenes[b].scoring_only) return b;
+  }
+  return -1;
+}
 
 std::string ClassFeaturesHelp() { return "linear, cos or log-cos"; }
 
@@ -231,6 +276,18 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     so.lambda = opt.lambda;
     const std::array<const Eigen::MatrixXd*, 3> gcos = {&in.gram_cos, &in.gram_cos, &in.gram_cos};
     std::map<int, BinRows> constraint_bins;  // per chosen class of material m
+    const auto constraint_of = [&](int j, const ClassSpectrum& cls) {
+      WeightConstraint constraint;
+      constraint.kind = opt.constraint;
+      if (opt.constraint == WeightConstraint::Kind::kBins) {
+        auto it = constraint_bins.find(j);
+        if (it == constraint_bins.end())
+          it = constraint_bins.emplace(j, BinRows::EveryNth(in.constraint_sample, cls.members, 1)).first;
+        constraint.bins = &it->second;
+      }
+      return constraint;
+    };
+    std::vector<Eigen::MatrixXd> auto_weights(S);  // the default fit from each scene's photo, for the joint rows
     for (int a = 0; a < S; ++a) {
       if (in.scenes[a].scoring_only) continue;
       const auto& fa = in.scenes[a].f;
@@ -239,13 +296,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes, obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, obs, paper_members, so);
       // The default fit: folds of this scene without material m's columns.
-      const int K = static_cast<int>(in.scenes[a].fold_gram.size());
-      std::vector<Observation> held(K);
-      for (int k = 0; k < K; ++k)
-        for (int c = 0; c < 3; ++c) {
-          held[k].z[c] = in.scenes[a].fold_gram[k][c].col(3 * m + c);
-          held[k].norm2[c] = in.scenes[a].fold_gram[k][c](3 * m + c, 3 * m + c);
-        }
+      const std::vector<Observation> held = HeldObservations(in.scenes[a].fold_gram, m);
       const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members);
       const std::vector<ClassSpectrum> auto_classes =
           auto_members.size() == ours_members.size() ? ours_classes : FactorClasses(fa, auto_members);
@@ -253,17 +304,9 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
           ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
                        ResolveConditionBound(opt.choice, in.scenes[a].PhotoNoise(m)));
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
-      WeightConstraint constraint;
-      constraint.kind = opt.constraint;
-      if (opt.constraint == WeightConstraint::Kind::kBins) {
-        auto it = constraint_bins.find(choice.chosen_class);
-        if (it == constraint_bins.end())
-          it = constraint_bins.emplace(choice.chosen_class, BinRows::EveryNth(in.constraint_sample, picked.members, 1))
-                   .first;
-        constraint.bins = &it->second;
-      }
       const std::vector<FittedMethod> methods = {
-          {"auto", SolveClass(fa, picked, obs, choice.lambda, constraint).weights, choice.chosen_class},
+          {"auto", SolveClass(fa, picked, obs, choice.lambda, constraint_of(choice.chosen_class, picked)).weights,
+           choice.chosen_class},
           {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
           {"ours", ours.weights(), ours.chosen},
           {"paper", paper.weights(), paper.chosen},
@@ -288,6 +331,42 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       // Before the floor (relit-oracle), which the tables and plots keep last.
       if (!in.lobe_scenes.empty())
         per_material[m].insert(per_material[m].end() - 1, LambertGgxRow(in, a, m, in.materials[m]));
+      auto_weights[a] = methods[0].w;
+    }
+    for (int a = 0; a < S && opt.joint; ++a) {
+      const int b = in.scenes[a].scoring_only ? -1 : JointPartner(in.scenes, a);
+      if (b < 0 || (b < a && JointPartner(in.scenes, b) == a)) continue;  // two fitted scenes: one pair
+      const JointScene js = JointOfScenes(in.scenes[a], in.scenes[b], m);
+      const Observation obs = BasisObservation(js.f, {3 * m, 3 * m + 1, 3 * m + 2});
+      const std::vector<ClassSpectrum> classes = FactorClasses(js.f, auto_members);
+      const CvSystem cv = FactorFolds(js.f, js.fold_gram, auto_members);
+      const LambdaChoice choice = ChooseLambda(js.f, classes, &cv, obs, HeldObservations(js.fold_gram, m), js.pixels,
+                                               ResolveConditionBound(opt.choice, js.photo_noise));
+      const ClassSpectrum& picked = classes[choice.chosen_class];
+      const std::string pair = in.scenes[a].probe + "+" + in.scenes[b].probe;
+      const std::vector<FittedMethod> methods = {
+          {"auto-joint", SolveClass(js.f, picked, obs, choice.lambda, constraint_of(choice.chosen_class, picked)).weights,
+           choice.chosen_class},
+          {"auto-one", auto_weights[a], -1},
+          {"auto-one", auto_weights[b], -1}};
+      const std::string probes[3] = {pair, in.scenes[a].probe + " (" + pair + ")",
+                                     in.scenes[b].probe + " (" + pair + ")"};
+      for (int i = 0; i < 3; ++i) {
+        LooRow row = MethodRow(methods[i], in.materials[m], probes[i], choice, opt.lambda);
+        if (i > 0) row.lambda = row.predicted = row.condition_bound = -1;  // the single fits' own are in their "auto" rows
+        ScoreRelitExcept(
+            in.scenes, {a, b},
+            [&](int s) {
+              const auto& f = in.scenes[s].f;
+              return RelativeError({&f[0].gram, &f[1].gram, &f[2].gram}, methods[i].w, m);
+            },
+            &row);
+        row.brdf = RelativeError(gcos, methods[i].w, m);
+        const std::array<ChannelFactor, 3>& fi = i == 2 ? in.scenes[b].f : i == 1 ? in.scenes[a].f : js.f;
+        row.insample = RelativeError({&fi[0].gram, &fi[1].gram, &fi[2].gram}, methods[i].w, m);
+        per_material[m].push_back(row);
+      }
+      SetNegativeBins(in.bin_sample, methods, &per_material[m][per_material[m].size() - methods.size()]);
     }
     t_solve[m] = sw2.Seconds();
     progress.Step();

@@ -19,8 +19,10 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fit/class_model.h"
@@ -103,6 +105,11 @@ struct LooOptions {
   // Only the materials (or targets) m with m mod shard_count = shard_index:
   // one of shard_count independent jobs whose rows together are the full run's.
   int shard_index = 0, shard_count = 1;
+  // Also fit every material from two photos at once (JointOfScenes; each
+  // fitted scene with JointPartner's): "auto-joint" rows, probe "A+B", scored
+  // under the probes neither photo was taken under, beside "auto-one" rows
+  // (probe "A (A+B)", "B (A+B)"): each photo's own default fit scored there.
+  bool joint = false;
   bool progress = false;
 };
 
@@ -141,28 +148,56 @@ void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& met
 // tables); no negative bin (non-negative weights on non-negative lobes).
 LooRow LambertGgxRow(const LooInputs& in, int a, int m, const std::string& material);
 
-// Fills row's relit_mean / relit_median (over the fitted scenes b ≠ a) and
-// relit_directional (over the scoring-only scenes) from error(b), the fit's
-// relit error under scene b.
+// Fills row's relit_mean / relit_median (over the fitted scenes not in
+// `fitted_from`) and relit_directional (over the scoring-only scenes) from
+// error(b), the fit's relit error under scene b.
 template <typename ErrorUnder>
-void ScoreRelit(const std::vector<SceneFactors>& scenes, int a, ErrorUnder&& error, LooRow* row) {
+void ScoreRelitExcept(const std::vector<SceneFactors>& scenes, const std::vector<int>& fitted_from, ErrorUnder&& error,
+                      LooRow* row) {
   std::vector<double> relit;
   double directional = 0;
   int directional_count = 0;
   for (int b = 0; b < static_cast<int>(scenes.size()); ++b) {
     if (scenes[b].scoring_only) {
       directional += error(b), ++directional_count;
-    } else if (b != a) {
+    } else if (std::find(fitted_from.begin(), fitted_from.end(), b) == fitted_from.end()) {
       relit.push_back(error(b));
     }
   }
-  if (relit.empty()) relit.push_back(error(a));  // one probe only: in-sample
+  if (relit.empty()) relit.push_back(error(fitted_from.at(0)));  // no other probe: in-sample
   double sum = 0;
   for (double e : relit) sum += e;
   row->relit_mean = sum / static_cast<double>(relit.size());
   row->relit_median = Median(relit);
   row->relit_directional = directional_count ? directional / directional_count : -1;
 }
+
+// The same for a fit from the photo under scene a alone.
+template <typename ErrorUnder>
+void ScoreRelit(const std::vector<SceneFactors>& scenes, int a, ErrorUnder&& error, LooRow* row) {
+  ScoreRelitExcept(scenes, {a}, std::forward<ErrorUnder>(error), row);
+}
+
+// Two photos of material m, under fitted scenes a and b, as one: the Gram
+// matrices of StackPhotos (fit/joint_photos.h) without the pixels. Each photo
+// and its basis images are scaled by the inverse of the photo's RMS pixel
+// value, so the stack's Gram matrices are s_a² G_a + s_b² G_b, and fold k holds
+// both photos' wedge k. No QR: the solves take the eigen path.
+struct JointScene {
+  std::array<ChannelFactor, 3> f;
+  std::vector<std::array<Eigen::MatrixXd, 3>> fold_gram;
+  size_t pixels = 0;
+  double photo_noise = 0;  // pooled over the photos' pixels as StackPhotos pools it
+};
+JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, int m);
+
+// Per fold, the observation of material m's own columns (3m + c) — the photo
+// of m is exactly its basis image, so its fold parts are columns of the fold Grams.
+std::vector<Observation> HeldObservations(const std::vector<std::array<Eigen::MatrixXd, 3>>& fold_gram, int m);
+
+// The fitted scene after a (cyclically) that a's photo is paired with for
+// LooOptions::joint; -1 when there is no other fitted scene.
+int JointPartner(const std::vector<SceneFactors>& scenes, int a);
 
 struct LooResult {
   std::vector<LooRow> rows;

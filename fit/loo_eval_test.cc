@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
 
+#include "fit/joint_photos.h"
+#include "fit/photo_noise.h"
 #include "fit/test_databases.h"
 #include "normals/sphere_geometry.h"
 
@@ -93,6 +96,76 @@ TEST(LeaveOneOut, TheRelitOracleRelightsAMaterialInTheSpanExactly) {
     }
   }
   EXPECT_EQ(checked, 2 * 3);
+}
+
+// The joint scene of the evaluation is StackPhotos' stack without the
+// pixels: the Gram matrices of the two photos' stacked, RMS-scaled basis
+// images, fold by fold, and the stack's pooled pixel noise.
+TEST(JointOfScenes, IsTheGramOfThePhotosStackedByStackPhotos) {
+  const PixelGeometry g = OrthographicSphere(24, 80);
+  std::mt19937 rng(8);
+  const int n = 12, K = 4, m = 2;
+  std::array<MatrixXfR, 3> ya = RandomBasisImages(g, n, rng), yb = RandomBasisImages(g, n, rng);
+  for (auto& y : yb) y *= 40.0f;  // probe B forty times as bright: the scales must even the photos out
+  LooInputs in = Inputs(g, {ya, yb});
+  std::vector<BasisImages> bases(2);
+  std::vector<Eigen::MatrixXd> photos(2);
+  for (int s = 0; s < 2; ++s) {
+    bases[s].geometry = g;
+    bases[s].Y = s ? yb : ya;
+    bases[s].header = {{"probe", "p.exr"}, {"probe_name", "p"}, {"database_kind", "standin"}, {"grid", {1, 1, 1}},
+                       {"bases", std::vector<std::string>(n, "b")}};
+    photos[s].resize(static_cast<Eigen::Index>(g.size()), 3);
+    for (int c = 0; c < 3; ++c) photos[s].col(c) = bases[s].Y[c].col(3 * m + c).cast<double>();
+    in.scenes[s].photo_noise.assign(n / 3, RelativePixelNoise(g, photos[s]));
+  }
+  const JointPhotos stack = StackPhotos(bases, photos, {"a.bsbi", "b.bsbi"}, K);
+  const auto grams = FactorBasisImages(stack.basis.Y);
+  const auto folds = FoldGrams(stack.basis.Y, stack.fold_of_pixel, K);
+
+  const JointScene joint = JointOfScenes(in.scenes[0], in.scenes[1], m);
+  EXPECT_EQ(joint.pixels, stack.y.rows());
+  EXPECT_NEAR(joint.photo_noise, stack.relative_noise, 1e-12);
+  for (int c = 0; c < 3; ++c) {
+    const double scale = grams[c].gram.norm();
+    EXPECT_LT((joint.f[c].gram - grams[c].gram).norm(), 1e-6 * scale) << "channel " << c;
+    for (int k = 0; k < K; ++k)
+      EXPECT_LT((joint.fold_gram[k][c] - folds[k][c]).norm(), 1e-6 * scale) << "fold " << k << ", channel " << c;
+    // The photo is its basis column: the stack's projection of its own pixels.
+    const Eigen::VectorXd z = ProjectRows(stack.basis.Y[c], stack.y.col(c));
+    EXPECT_LT((joint.f[c].gram.col(3 * m + c) - z).norm(), 1e-6 * z.norm());
+  }
+}
+
+// Two photos that say the same thing (the second scene is the first at twice
+// the brightness) fit as one photo does: the joint rows relight exactly as
+// either photo's own fit, under the probe neither was taken under.
+TEST(LeaveOneOut, JointRowsOfProportionalScenesEqualTheSinglePhotos) {
+  const PixelGeometry g = OrthographicSphere(24, 80);
+  std::mt19937 rng(9);
+  const auto Y = RandomBasisImages(g, 15, rng);
+  std::array<MatrixXfR, 3> twice = Y;
+  for (auto& y : twice) y *= 2.0f;
+  LooOptions opt = Options();
+  opt.joint = true;
+  const LooResult r = RunLeaveOneOut(Inputs(g, {Y, twice, RandomBasisImages(g, 15, rng)}), opt);
+  int pairs = 0;
+  for (const LooRow& row : r.rows) {
+    if (row.method != "auto-joint" || row.probe != "p0+p1") continue;
+    ++pairs;
+    int singles = 0;
+    for (const LooRow& one : r.rows)
+      if (one.method == "auto-one" && one.material == row.material &&
+          (one.probe == "p0 (p0+p1)" || one.probe == "p1 (p0+p1)")) {
+        EXPECT_NEAR(one.relit_mean, row.relit_mean, 1e-6 * row.relit_mean) << row.material << ", " << one.probe;
+        ++singles;
+      }
+    EXPECT_EQ(singles, 2) << row.material;
+  }
+  EXPECT_EQ(pairs, 5);
+  // Three fitted scenes: pairs p0+p1, p1+p2, p2+p0, each with its two photos.
+  EXPECT_EQ(std::count_if(r.rows.begin(), r.rows.end(), [](const LooRow& x) { return x.method == "auto-joint"; }), 15);
+  EXPECT_EQ(std::count_if(r.rows.begin(), r.rows.end(), [](const LooRow& x) { return x.method == "auto-one"; }), 30);
 }
 
 // The analytic baseline's row: a material that is exactly kd/π + q[F0(1 − s) + s]
