@@ -90,15 +90,22 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
 }
 
 namespace {
-// Held-out squared error of class `cls` (its fold factor) for every λ of `grid`,
-// added into `score`.
+// Held-out squared error of class `cls` (its fold factor) for every λ of
+// `grid` that `scored` marks (all when empty), added into `score`.
 void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd, 3>& held_class_gram,
-                   const Observation& all, const Observation& held, const std::vector<double>& grid,
-                   std::vector<double>* score) {
+                   const Observation& all, const Observation& held, const std::vector<double>& all_grid,
+                   std::vector<double>* score, const std::vector<bool>& scored = {}) {
+  // Only the scored λ are solved and projected: the products with Q and the
+  // held-out Gram matrix are most of a choice's cost.
+  std::vector<double> grid;
+  std::vector<size_t> at;
+  for (size_t l = 0; l < all_grid.size(); ++l)
+    if (scored.empty() || scored[l]) grid.push_back(all_grid[l]), at.push_back(l);
   const std::vector<int>& J = cls.members;
   const Eigen::Index k = static_cast<Eigen::Index>(J.size());
   const double cj = static_cast<double>(k);
   const Eigen::Index L = static_cast<Eigen::Index>(grid.size());
+  if (L == 0) return;
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / cj);
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd z_train = (all.z[c] - held.z[c])(J);
@@ -132,7 +139,7 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
     const Eigen::MatrixXd GW = held_class_gram[c] * W;
     const Eigen::VectorXd zh = held.z[c](J);
     for (Eigen::Index l = 0; l < L; ++l)
-      (*score)[l] += std::max(0.0, W.col(l).dot(GW.col(l)) - 2 * W.col(l).dot(zh) + held.norm2[c]);
+      (*score)[at[l]] += std::max(0.0, W.col(l).dot(GW.col(l)) - 2 * W.col(l).dot(zh) + held.norm2[c]);
   }
 }
 
@@ -204,41 +211,56 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   BRDFSHOT_CHECK(!opt.grid.empty());
   out.grid = opt.grid;
   const double inf = std::numeric_limits<double>::infinity();
-  out.score.assign(classes.size(), std::vector<double>(opt.grid.size(), inf));
+  const size_t last = opt.grid.size() - 1;
+  // within[j][l]: grid value l keeps class j within the condition bound in
+  // every channel. Only those, and the grid's largest λ (the fallback below
+  // needs its score), are scored at all.
+  std::vector<std::vector<bool>> within(classes.size(), std::vector<bool>(opt.grid.size(), false));
+  std::vector<std::vector<bool>> scored = within;
+  for (size_t j = 0; j < classes.size(); ++j) {
+    if (classes[j].members.empty()) continue;
+    const double cj = static_cast<double>(classes[j].members.size());
+    for (size_t l = 0; l < opt.grid.size(); ++l) {
+      bool ok = true;
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::VectorXd& e = classes[j].e[c];
+        const double lj = opt.grid[l] * obs.norm2[c] / cj;
+        if (e.size() && !((e[e.size() - 1] + lj) <= opt.max_condition * (e[0] + lj))) ok = false;
+      }
+      within[j][l] = ok;
+      scored[j][l] = ok || l == last;
+    }
+  }
+  std::vector<std::vector<double>> unbounded(classes.size(), std::vector<double>(opt.grid.size(), inf));
   // Cross-validation scores whenever the folds are given: the choice for rule
   // cv, the predicted error for both rules.
-  std::vector<std::vector<double>> cv_score(classes.size(), std::vector<double>(opt.grid.size(), inf));
+  std::vector<std::vector<double>> cv_score = unbounded;
   for (size_t j = 0; j < classes.size(); ++j) {
     if (classes[j].members.empty()) continue;
     if (opt.rule == "gcv")
-      out.score[j] = GcvScores(classes[j], obs, opt.gcv_pixel_fraction * static_cast<double>(pixels), opt.grid);
+      unbounded[j] = GcvScores(classes[j], obs, opt.gcv_pixel_fraction * static_cast<double>(pixels), opt.grid);
     if (cv) {
       BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty() && cv->train[0].size() == classes.size());
       const int K = static_cast<int>(held.size());
       std::vector<std::vector<double>> per_fold(K, std::vector<double>(opt.grid.size(), 0.0));
 #pragma omp parallel for schedule(dynamic, 1)
       for (int k = 0; k < K; ++k)
-        AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[k]);
-      cv_score[j].assign(opt.grid.size(), 0.0);
-      for (int k = 0; k < K; ++k)  // summed in fold order: the same score on any thread count
-        for (size_t l = 0; l < opt.grid.size(); ++l) cv_score[j][l] += per_fold[k][l];
+        AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[k], scored[j]);
+      for (size_t l = 0; l < opt.grid.size(); ++l) {
+        if (!scored[j][l]) continue;
+        cv_score[j][l] = 0;
+        for (int k = 0; k < K; ++k) cv_score[j][l] += per_fold[k][l];  // in fold order: the same on any thread count
+      }
     }
   }
   if (opt.rule == "cv") {
     BRDFSHOT_CHECK(cv, "rule cv needs the folds");
-    out.score = cv_score;
+    unbounded = cv_score;
   }
-  const std::vector<std::vector<double>> unbounded = out.score;
-  for (size_t j = 0; j < classes.size(); ++j) {
-    if (classes[j].members.empty()) continue;
-    const double cj = static_cast<double>(classes[j].members.size());
+  out.score = unbounded;
+  for (size_t j = 0; j < classes.size(); ++j)
     for (size_t l = 0; l < opt.grid.size(); ++l)
-      for (int c = 0; c < 3; ++c) {
-        const Eigen::VectorXd& e = classes[j].e[c];
-        const double lj = opt.grid[l] * obs.norm2[c] / cj;
-        if (e.size() && !((e[e.size() - 1] + lj) <= opt.max_condition * (e[0] + lj))) out.score[j][l] = inf;
-      }
-  }
+      if (!within[j][l]) out.score[j][l] = inf;
   double best = inf;
   for (size_t j = 0; j < classes.size(); ++j)
     for (size_t l = 0; l < opt.grid.size(); ++l)
@@ -249,7 +271,6 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     // channel of the photo that is black (λ_j = λ‖y_c‖²/c_j is then 0 at
     // every λ) with ill-conditioned classes. The most regularised fit is the
     // safe one: the grid's largest λ, the class the criterion scores best there.
-    const size_t last = opt.grid.size() - 1;
     for (size_t j = 0; j < classes.size(); ++j) {
       if (classes[j].members.empty()) continue;
       const double s = unbounded[j][last];
