@@ -43,7 +43,7 @@ struct EvalArgs {
         ("folds", po::value(&eo.folds)->default_value(eo.folds), "wedges for the auto method's cross-validation")
         ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
         ("joint", po::bool_switch(&loo.joint), "also fit every material from two photos at once (each probe's with the next "
-         "probe's) and score it against each photo alone, under the probes neither was taken under (leave-one-out only)")
+         "probe's) and score it against each photo alone, under the probes neither was taken under")
         ("lambda-grid", po::value(&grid), "comma-separated λ values the auto method chooses among (default: 0 … 10)")
         ("targets", po::value(&eo.targets_kind), "evaluate on another database's materials instead of leaving each out "
          "(e.g. standin: the analytic stand-ins, none of them in MERL), fitted with all of --db's bases")

@@ -78,8 +78,6 @@ void GroupMaterials(const BasisDatabase& base, const BasisDatabase& targets, con
 
 Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt) {
   if (opt.probes.size() < 2) throw Error("the evaluation needs at least two probes: one to fit, one to score under");
-  if (opt.loo.joint && !opt.targets_kind.empty())
-    throw Error("joint fits of two photos are evaluated in leave-one-out only, not with targets");
   Stopwatch total;
   Evaluation ev;
   const BasisDatabase base = LoadDatabase(db);

@@ -108,29 +108,34 @@ std::vector<double> NegativeBinShares(const MatrixXfR& bins, const Eigen::Matrix
 
 double NegativeBinShare(const MatrixXfR& bins, const Eigen::MatrixXd& w) { return NegativeBinShares(bins, w)[0]; }
 
-JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, int m) {
+JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, PhotoStats photo_a, PhotoStats photo_b) {
   BRDFSHOT_CHECK(!a.scoring_only && !b.scoring_only && a.fold_gram.size() == b.fold_gram.size(),
                  "a joint fit needs two fitted scenes with the same folds");
-  const auto rms2 = [m](const SceneFactors& s) {
-    double sum = 0;
-    for (int c = 0; c < 3; ++c) sum += s.f[c].gram(3 * m + c, 3 * m + c);
-    return sum / (3.0 * static_cast<double>(std::max<size_t>(1, s.pixels)));
-  };
-  const double ra = rms2(a), rb = rms2(b);
-  BRDFSHOT_CHECK(ra > 0 && rb > 0, "a photo of the joint fit is black");
-  const double sa = 1 / ra, sb = 1 / rb;  // the squared scales: Gram matrices take s²
+  BRDFSHOT_CHECK(photo_a.mean_square > 0 && photo_b.mean_square > 0, "a photo of the joint fit is black");
+  // Each photo scaled by s = 1/RMS: its Gram matrices by s².
+  const double sa = 1 / photo_a.mean_square, sb = 1 / photo_b.mean_square;
   JointScene j;
   for (int c = 0; c < 3; ++c) j.f[c].gram = sa * a.f[c].gram + sb * b.f[c].gram;
   j.fold_gram.resize(a.fold_gram.size());
   for (size_t k = 0; k < a.fold_gram.size(); ++k)
     for (int c = 0; c < 3; ++c) j.fold_gram[k][c] = sa * a.fold_gram[k][c] + sb * b.fold_gram[k][c];
   j.pixels = a.pixels + b.pixels;
-  const double ea = a.PhotoNoise(m), eb = b.PhotoNoise(m);
+  const double ea = photo_a.noise, eb = photo_b.noise;
   j.photo_noise = ea < 0 || eb < 0 ? kUnknownNoise
                                    : std::sqrt((ea * ea * static_cast<double>(a.pixels) +
                                                 eb * eb * static_cast<double>(b.pixels)) /
                                                static_cast<double>(std::max<size_t>(1, j.pixels)));
+  j.scale = {sa, sb};
   return j;
+}
+
+JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, int m) {
+  const auto stats = [m](const SceneFactors& s) {
+    double sum = 0;
+    for (int c = 0; c < 3; ++c) sum += s.f[c].gram(3 * m + c, 3 * m + c);
+    return PhotoStats{sum / (3.0 * static_cast<double>(std::max<size_t>(1, s.pixels))), s.PhotoNoise(m)};
+  };
+  return JointOfScenes(a, b, stats(a), stats(b));
 }
 
 std::vector<Observation> HeldObservations(const std::vector<std::array<Eigen::MatrixXd, 3>>& fold_gram, int m) {

@@ -105,7 +105,7 @@ struct LooOptions {
   // Only the materials (or targets) m with m mod shard_count = shard_index:
   // one of shard_count independent jobs whose rows together are the full run's.
   int shard_index = 0, shard_count = 1;
-  // Also fit every material from two photos at once (JointOfScenes; each
+  // Also fit every material (or target) from two photos at once (JointOfScenes; each
   // fitted scene with JointPartner's): "auto-joint" rows, probe "A+B", scored
   // under the probes neither photo was taken under, beside "auto-one" rows
   // (probe "A (A+B)", "B (A+B)"): each photo's own default fit scored there.
@@ -188,7 +188,15 @@ struct JointScene {
   std::vector<std::array<Eigen::MatrixXd, 3>> fold_gram;
   size_t pixels = 0;
   double photo_noise = 0;  // pooled over the photos' pixels as StackPhotos pools it
+  std::array<double, 2> scale{};  // s_a², s_b²: what each photo's projections are multiplied by
 };
+// `photo_a`, `photo_b`: each photo's mean squared pixel value and relative
+// pixel noise (RelativePixelNoise).
+struct PhotoStats {
+  double mean_square = 0, noise = 0;
+};
+JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, PhotoStats photo_a, PhotoStats photo_b);
+// The photos of database material m, which are its basis images.
 JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, int m);
 
 // Per fold, the observation of material m's own columns (3m + c) — the photo

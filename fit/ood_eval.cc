@@ -1,6 +1,7 @@
 #include "fit/ood_eval.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 #include "fit/bin_constraints.h"
@@ -127,6 +128,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
 #pragma omp parallel for schedule(dynamic, 1)
   for (int t = 0; t < T; ++t) {
     if (t % opt.shard_count != opt.shard_index) continue;
+    std::vector<Eigen::MatrixXd> auto_weights(S);  // the default fit from each scene's photo, for the joint rows
     for (int a : fitted) {
       const auto& fa = bases.scenes[a].f;
       const TargetScene& ta = scenes[a];
@@ -177,6 +179,63 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       // Before the floor (relit-oracle), which the tables and plots keep last.
       if (!bases.lobe_scenes.empty())
         per_target[t].insert(per_target[t].end() - 1, LambertGgxRow(bases, a, t, targets[t]));
+      auto_weights[a] = methods[0].w;
+    }
+    for (int a : fitted) {
+      const int b = opt.joint ? JointPartner(bases.scenes, a) : -1;
+      if (b < 0 || (b < a && JointPartner(bases.scenes, b) == a)) continue;  // two fitted scenes: one pair
+      const auto stats = [&](int s) {
+        double sum = 0;
+        for (int c = 0; c < 3; ++c) sum += scenes[s].self[c][t];
+        return PhotoStats{sum / (3.0 * static_cast<double>(std::max<size_t>(1, bases.scenes[s].pixels))),
+                          bases.scenes[s].PhotoNoise(t)};
+      };
+      const JointScene js = JointOfScenes(bases.scenes[a], bases.scenes[b], stats(a), stats(b));
+      const double sa = js.scale[0], sb = js.scale[1];
+      Observation obs;
+      std::vector<Observation> held(js.fold_gram.size());
+      for (int c = 0; c < 3; ++c) {
+        obs.z[c] = sa * scenes[a].cross[c].col(t) + sb * scenes[b].cross[c].col(t);
+        obs.norm2[c] = sa * scenes[a].self[c][t] + sb * scenes[b].self[c][t];
+        for (size_t k = 0; k < held.size(); ++k) {
+          held[k].z[c] = sa * scenes[a].fold_cross[k][c].col(t) + sb * scenes[b].fold_cross[k][c].col(t);
+          held[k].norm2[c] = sa * scenes[a].fold_self[k][c][t] + sb * scenes[b].fold_self[k][c][t];
+        }
+      }
+      const std::vector<ClassSpectrum> classes = FactorClasses(js.f, auto_members);
+      const CvSystem joint_cv = FactorFolds(js.f, js.fold_gram, auto_members);
+      const LambdaChoice choice = ChooseLambda(js.f, classes, &joint_cv, obs, held, js.pixels,
+                                               ResolveConditionBound(opt.choice, js.photo_noise));
+      WeightConstraint constraint;
+      constraint.kind = opt.constraint;
+      if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &class_bins[choice.chosen_class];
+      const Eigen::MatrixXd w = SolveClass(js.f, classes[choice.chosen_class], obs, choice.lambda, constraint).weights;
+      const std::string pair = bases.scenes[a].probe + "+" + bases.scenes[b].probe;
+      const std::vector<FittedMethod> methods = {
+          {"auto-joint", w, choice.chosen_class}, {"auto-one", auto_weights[a], -1}, {"auto-one", auto_weights[b], -1}};
+      const std::string probes[3] = {pair, bases.scenes[a].probe + " (" + pair + ")",
+                                     bases.scenes[b].probe + " (" + pair + ")"};
+      for (int i = 0; i < 3; ++i) {
+        LooRow row = MethodRow(methods[i], targets[t], probes[i], choice, opt.lambda);
+        if (i > 0) row.lambda = row.predicted = row.condition_bound = -1;  // the single fits' own are in their "auto" rows
+        ScoreRelitExcept(
+            bases.scenes, {a, b},
+            [&](int s) { return TargetError(bases.scenes[s].f.data(), scenes[s], methods[i].w, t); }, &row);
+        row.brdf = std::nan("");
+        if (i == 0) {  // in-sample over both photos, each at its scale
+          double num = 0, den = 0;
+          for (int c = 0; c < 3; ++c) {
+            num += w.col(c).dot(js.f[c].gram * w.col(c)) - 2 * w.col(c).dot(obs.z[c]) + obs.norm2[c];
+            den += obs.norm2[c];
+          }
+          row.insample = den > 0 ? std::sqrt(std::max(0.0, num) / den) : 0.0;
+        } else {
+          const int s = i == 1 ? a : b;
+          row.insample = TargetError(bases.scenes[s].f.data(), scenes[s], methods[i].w, t);
+        }
+        per_target[t].push_back(row);
+      }
+      SetNegativeBins(bases.bin_sample, methods, &per_target[t][per_target[t].size() - methods.size()]);
     }
     progress.Step();
   }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <utility>
 
 #include "fit/test_databases.h"
 #include "normals/sphere_geometry.h"
@@ -83,6 +84,69 @@ TEST(OutOfDatabase, TargetsInTheSpanAreRelitExactlyByLeastSquaresAndTheOracle) {
   for (const LooRow& row : r.rows)
     if (row.method == "lsq") lsq_negative += row.negative_bins;
   EXPECT_GT(lsq_negative, 0);
+}
+
+// Two photos that say the same thing (scene 1 is scene 0 at twice the
+// brightness, targets included) fit as one photo does: each target's joint
+// row relights as either photo's own fit under the scene neither was taken
+// under; every other pair is scored there too, and only there.
+TEST(OutOfDatabase, JointRowsOfProportionalScenesEqualTheSinglePhotos) {
+  const PixelGeometry g = OrthographicSphere(24, 80);
+  std::mt19937 rng(4);
+  const int n = 12, T = 2, K = 4;
+  const std::vector<int> fold = WedgeFolds(g, K);
+  std::normal_distribution<double> gauss;
+  // Targets outside the bases' span: a basis image plus the square of another.
+  const auto targets_of = [&](const std::array<MatrixXfR, 3>& Y) {
+    std::array<MatrixXfR, 3> Yt;
+    for (int c = 0; c < 3; ++c) {
+      Yt[c] = MatrixXfR::Zero(Y[c].rows(), 3 * T);
+      for (int t = 0; t < T; ++t)
+        Yt[c].col(3 * t + c) = Y[c].col(t + c).array() + 0.3f * Y[c].col(n - 1 - t).array().square();
+    }
+    return Yt;
+  };
+  std::vector<std::pair<std::array<MatrixXfR, 3>, std::array<MatrixXfR, 3>>> images;
+  images.emplace_back(RandomBasisImages(g, n, rng), std::array<MatrixXfR, 3>{});
+  images[0].second = targets_of(images[0].first);
+  images.push_back(images[0]);
+  for (int c = 0; c < 3; ++c) images[1].first[c] *= 2.0f, images[1].second[c] *= 2.0f;
+  images.emplace_back(RandomBasisImages(g, n, rng), std::array<MatrixXfR, 3>{});
+  images[2].second = targets_of(images[2].first);
+  LooInputs bases;
+  std::vector<TargetScene> scenes;
+  int s = 0;
+  for (const auto& [Y, Yt] : images) {
+    SceneFactors sf;
+    sf.probe = "p" + std::to_string(s++);
+    sf.f = FactorBasisImages(Y, true);
+    sf.fold_gram = FoldGrams(Y, fold, K);
+    sf.pixels = g.size();
+    scenes.push_back(MakeTargetScene(sf.f, Y, Yt, fold, K));
+    bases.scenes.push_back(std::move(sf));
+  }
+  bases.materials = {"a", "b", "c", "d"};
+  bases.gram = bases.scenes[0].f[1].gram;
+  LooOptions opt;
+  opt.gmm.classes = 2;
+  opt.gmm.dims = 2;
+  opt.constraint = WeightConstraint::Kind::kNone;
+  opt.joint = true;
+  const LooResult r = RunOutOfDatabase(bases, scenes, {"t0", "t1"}, opt);
+  ASSERT_EQ(r.rows.size(), static_cast<size_t>(T * 3 * 6 + T * 3 * 3)) << "six methods per photo, three rows per pair";
+  int pairs = 0;
+  for (const LooRow& row : r.rows) {
+    if (row.method != "auto-joint") continue;
+    EXPECT_TRUE(row.probe == "p0+p1" || row.probe == "p1+p2" || row.probe == "p2+p0") << row.probe;
+    EXPECT_TRUE(std::isfinite(row.relit_mean) && row.relit_mean > 0) << row.probe;
+    if (row.probe != "p0+p1") continue;
+    ++pairs;
+    for (const LooRow& one : r.rows)
+      if (one.method == "auto-one" && one.material == row.material &&
+          (one.probe == "p0 (p0+p1)" || one.probe == "p1 (p0+p1)"))
+        EXPECT_NEAR(one.relit_mean, row.relit_mean, 1e-6 * row.relit_mean) << row.material << ", " << one.probe;
+  }
+  EXPECT_EQ(pairs, T);
 }
 
 }  // namespace brdfshot
