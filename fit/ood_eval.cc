@@ -103,7 +103,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
     const int a = fitted[i];
     const auto& fa = bases.scenes[a].f;
     ours_classes[a] = FactorClasses(fa, ours_members);
-    paper_classes[a] = FactorClasses(fa, paper_members);
+    paper_classes[a] = FactorClasses(fa, paper_members, SpectrumParts::kEigenvalues);  // solved at its fixed λ only
     auto_classes[a] = auto_members.size() == ours_members.size() ? ours_classes[a] : FactorClasses(fa, auto_members);
     cv[a] = FactorFolds(fa, bases.scenes[a].fold_gram, auto_members);
     for (int c = 0; c < 3; ++c) {

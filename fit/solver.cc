@@ -1,5 +1,6 @@
 #include "fit/solver.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -100,16 +101,18 @@ Observation BasisObservation(const std::array<ChannelFactor, 3>& f, const std::a
 }
 
 std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
-                                         const std::vector<std::vector<int>>& members) {
+                                         const std::vector<std::vector<int>>& members, SpectrumParts parts) {
+  const bool vectors = parts == SpectrumParts::kValuesAndVectors;
   std::vector<ClassSpectrum> out(members.size());
   for (size_t j = 0; j < members.size(); ++j) {
     out[j].members = members[j];
     if (members[j].empty()) continue;
     for (int c = 0; c < 3; ++c) {
       out[j].gram[c] = f[c].gram(members[j], members[j]);
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(out[j].gram[c]);
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(out[j].gram[c],
+                                                         vectors ? Eigen::ComputeEigenvectors : Eigen::EigenvaluesOnly);
       out[j].e[c] = eig.eigenvalues().cwiseMax(0.0);  // rounding can leave a singular G slightly negative
-      out[j].V[c] = eig.eigenvectors();
+      if (vectors) out[j].V[c] = eig.eigenvectors();
     }
   }
   return out;
@@ -136,6 +139,7 @@ Eigen::VectorXd SolveRidge(const Eigen::MatrixXd& A, const Eigen::VectorXd& z, d
 }
 
 Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::VectorXd& zJ, double lambda_j) {
+  BRDFSHOT_CHECK(cls.has_vectors(), "a solve through the spectrum needs the class's eigenvectors");
   const Eigen::VectorXd& e = cls.e[c];
   const Eigen::Index k = e.size();
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / static_cast<double>(k));
@@ -152,6 +156,7 @@ namespace {
 // (G_JJ + λ_j I)⁺ of channel c through the class's spectrum, with the floor of
 // SolveFromSpectrum: directions it leaves at the prior, this leaves alone.
 Eigen::MatrixXd SpectrumInverse(const ClassSpectrum& cls, int c, double lambda_j) {
+  BRDFSHOT_CHECK(cls.has_vectors(), "the bin constraint needs the class's eigenvectors");
   const Eigen::VectorXd& e = cls.e[c];
   const Eigen::Index k = e.size();
   const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
@@ -191,9 +196,17 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
     } else if (kappa > kMaxNormalCondition && f[c].has_qr() && obs.z_qr[c].size()) {
       W.col(c) = SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], lj[c], prior);
       worst = std::max(worst, 2);
-    } else {
+    } else if (cls.has_vectors()) {
       W.col(c) = SolveFromSpectrum(cls, c, zJ, lj[c]);
       if (kappa > kMaxNormalCondition) worst = std::max(worst, 1);
+    } else {
+      BRDFSHOT_CHECK(kappa <= kMaxNormalCondition,
+                     "a class factored without eigenvectors is ill-conditioned (κ " << kappa << ") and has no QR");
+      Eigen::MatrixXd H = cls.gram[c];
+      H.diagonal().array() += lj[c];
+      const Eigen::LLT<Eigen::MatrixXd> llt(H);
+      BRDFSHOT_CHECK(llt.info() == Eigen::Success, "G_JJ + λ_j I is not positive definite at κ " << kappa);
+      W.col(c) = llt.solve(zJ + lj[c] * prior);
     }
   }
   if (constraint.kind == WeightConstraint::Kind::kBins) {

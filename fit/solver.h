@@ -75,11 +75,21 @@ Observation BasisObservation(const std::array<ChannelFactor, 3>& f, const std::a
 struct ClassSpectrum {
   std::vector<int> members;
   std::array<Eigen::VectorXd, 3> e;
-  std::array<Eigen::MatrixXd, 3> V;
+  std::array<Eigen::MatrixXd, 3> V;     // empty when factored with SpectrumParts::kEigenvalues
   std::array<Eigen::MatrixXd, 3> gram;  // G_JJ
+  bool has_vectors() const { return members.empty() || V[0].size() > 0; }
 };
+// What FactorClasses computes. The eigenvalues give the condition numbers and
+// the λ search's bound; the eigenvectors are what makes a solve at any λ two
+// small products, which the λ search, the prior sensitivity and the bin
+// constraint use. A class solved once at one fixed λ needs only the
+// eigenvalues — they cost a sixth of the whole decomposition — and SolveClass
+// then takes a Cholesky factor of G_JJ + λ_j I where it is well conditioned
+// (the QR route where not).
+enum class SpectrumParts { kValuesAndVectors, kEigenvalues };
 std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
-                                         const std::vector<std::vector<int>>& members);
+                                         const std::vector<std::vector<int>>& members,
+                                         SpectrumParts parts = SpectrumParts::kValuesAndVectors);
 
 struct SolveOptions {
   double lambda = 0.5;
@@ -124,6 +134,9 @@ struct WeightConstraint {
 
 // One class's solve over R, G, B at weight λ (λ_j = λ‖y_c‖²/c_j per channel),
 // under `constraint` (path "nonneg-weights" / "nonneg-bins" when one applies).
+// A class without eigenvectors is solved by Cholesky (path "normal") while
+// κ ≤ kMaxNormalCondition, else by the QR route; without either (no QR) or
+// under the bin constraint it is an internal error.
 ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
                          double lambda, const WeightConstraint& constraint = {});
 

@@ -27,6 +27,42 @@ Eigen::MatrixXd Render(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd&
 }
 }  // namespace
 
+// A class factored without eigenvectors solves a fixed λ by Cholesky where
+// the system is well conditioned and by the QR route where not: the same
+// weights, residual and condition as through the full spectrum.
+TEST(Solver, AClassWithoutEigenvectorsSolvesAsTheFullSpectrumDoes) {
+  auto Y = Images(300, 16, 7);
+  for (auto& y : Y) y.col(15) = y.col(14);  // class 1 holds two equal bases: singular at λ = 0
+  const auto f = FactorBasisImages(Y, true);
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5, 6, 7}, {8, 9, 10, 11, 12, 13, 14, 15}};
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(0, 1);
+  Eigen::MatrixXd w(16, 3);
+  for (Eigen::Index i = 0; i < w.size(); ++i) w(i) = u(rng);
+  const Observation obs = MakeObservation(f, Y, Render(Y, w));
+  const auto full = FactorClasses(f, members);
+  const auto values = FactorClasses(f, members, SpectrumParts::kEigenvalues);
+  ASSERT_FALSE(values[0].has_vectors());
+  for (int c = 0; c < 3; ++c) EXPECT_LT((values[1].e[c] - full[1].e[c]).norm(), 1e-12 * full[1].e[c].norm());
+  for (double lambda : {0.5, 1e-3, 0.0}) {
+    for (int j = 0; j < 2; ++j) {
+      const ClassSolution a = SolveClass(f, full[j], obs, lambda), b = SolveClass(f, values[j], obs, lambda);
+      EXPECT_EQ(a.path, b.path) << "class " << j << ", λ " << lambda;
+      EXPECT_LT((a.weights - b.weights).norm(), 1e-7 * a.weights.norm()) << "class " << j << ", λ " << lambda;
+      EXPECT_NEAR(a.residual, b.residual, 1e-6 * a.residual + 1e-12) << "class " << j << ", λ " << lambda;
+      for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(a.condition[c], b.condition[c]);
+    }
+  }
+  EXPECT_EQ(SolveClass(f, values[1], obs, 0.0).path, "qr") << "the singular class at λ = 0 takes the QR route";
+  // Without a QR there is nothing to fall back on: an internal error, not a wrong answer.
+  const auto no_qr = FactorBasisImages(Y, false);
+  const Observation obs_no_qr = MakeObservation(no_qr, Y, Render(Y, w));
+  EXPECT_THROW(SolveClass(no_qr, FactorClasses(no_qr, members, SpectrumParts::kEigenvalues)[1], obs_no_qr, 0.0),
+               std::logic_error);
+  EXPECT_LT((SolveClass(no_qr, values[0], obs_no_qr, 0.5).weights - SolveClass(f, full[0], obs, 0.5).weights).norm(),
+            1e-7 * w.norm());
+}
+
 TEST(Solver, ClassMeanIsRecoveredExactlyWithItsClass) {
   // The regulariser pulls towards μ' = 1/c_j, so a material equal to class 1's
   // mean is a fixed point for any λ: weights and class must come back exactly.
