@@ -148,13 +148,22 @@ std::vector<Observation> HeldObservations(const std::vector<std::array<Eigen::Ma
   return held;
 }
 
-int JointPartner(const std::vector<SceneFactors>& scenes, int a) {
+namespace {
+int NextFitted(const std::vector<SceneFactors>& scenes, int a) {
   const int S = static_cast<int>(scenes.size());
   for (int i = 1; i < S; ++i) {
     const int b = (a + i) % S;
     if (!scenes[b].scoring_only) return b;
   }
   return -1;
+}
+}  // namespace
+
+int JointPartner(const std::vector<SceneFactors>& scenes, int a) {
+  if (scenes.at(a).scoring_only) return -1;
+  const int b = NextFitted(scenes, a);
+  // With two fitted scenes each is the other's next: one pair, counted at the first.
+  return b < 0 || (b < a && NextFitted(scenes, b) == a) ? -1 : b;
 }
 
 std::string ClassFeaturesHelp() { return "linear, cos or log-cos"; }
@@ -300,7 +309,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const std::vector<ClassSpectrum> ours_classes = FactorClasses(fa, ours_members);
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes, obs, so);
       // Solved once at its fixed λ: eigenvalues only (the printed M-step
-      // leaves one class of every basis, whose eigenvectors are most of a fit's cost).
+      // leaves one class of every basis, whose eigenvectors cost about a quarter of a fit).
       const ClasswiseFit paper =
           SolveClasswise(fa, FactorClasses(fa, paper_members, SpectrumParts::kEigenvalues), obs, so);
       // The default fit: folds of this scene without material m's columns.
@@ -342,8 +351,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       auto_weights[a] = methods[0].w;
     }
     for (int a = 0; a < S && opt.joint; ++a) {
-      const int b = in.scenes[a].scoring_only ? -1 : JointPartner(in.scenes, a);
-      if (b < 0 || (b < a && JointPartner(in.scenes, b) == a)) continue;  // two fitted scenes: one pair
+      const int b = JointPartner(in.scenes, a);
+      if (b < 0) continue;
       const JointScene js = JointOfScenes(in.scenes[a], in.scenes[b], m);
       const Observation obs = BasisObservation(js.f, {3 * m, 3 * m + 1, 3 * m + 2});
       const std::vector<ClassSpectrum> classes = FactorClasses(js.f, auto_members);

@@ -204,7 +204,9 @@ JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, int m);
 std::vector<Observation> HeldObservations(const std::vector<std::array<Eigen::MatrixXd, 3>>& fold_gram, int m);
 
 // The fitted scene after a (cyclically) that a's photo is paired with for
-// LooOptions::joint; -1 when there is no other fitted scene.
+// LooOptions::joint; -1 for a scoring-only scene, when there is no other
+// fitted scene, or when the pair is a's partner's already (two fitted scenes
+// make one pair, not two).
 int JointPartner(const std::vector<SceneFactors>& scenes, int a);
 
 struct LooResult {

@@ -137,6 +137,22 @@ TEST(JointOfScenes, IsTheGramOfThePhotosStackedByStackPhotos) {
   }
 }
 
+// Each fitted scene is paired with the next fitted one, cyclically; two
+// fitted scenes make one pair, and a scoring-only scene none.
+TEST(JointPartner, PairsEachFittedSceneWithTheNextOnce) {
+  std::vector<SceneFactors> scenes(4);
+  scenes[1].scoring_only = true;
+  EXPECT_EQ(JointPartner(scenes, 0), 2);
+  EXPECT_EQ(JointPartner(scenes, 1), -1);
+  EXPECT_EQ(JointPartner(scenes, 2), 3);
+  EXPECT_EQ(JointPartner(scenes, 3), 0);
+  std::vector<SceneFactors> two(3);
+  two[2].scoring_only = true;
+  EXPECT_EQ(JointPartner(two, 0), 1);
+  EXPECT_EQ(JointPartner(two, 1), -1) << "the pair 0+1 is counted once";
+  EXPECT_EQ(JointPartner(std::vector<SceneFactors>(1), 0), -1) << "no other fitted scene";
+}
+
 // Two photos that say the same thing (the second scene is the first at twice
 // the brightness) fit as one photo does: the joint rows relight exactly as
 // either photo's own fit, under the probe neither was taken under.

@@ -183,7 +183,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
     }
     for (int a : fitted) {
       const int b = opt.joint ? JointPartner(bases.scenes, a) : -1;
-      if (b < 0 || (b < a && JointPartner(bases.scenes, b) == a)) continue;  // two fitted scenes: one pair
+      if (b < 0) continue;
       const auto stats = [&](int s) {
         double sum = 0;
         for (int c = 0; c < 3; ++c) sum += scenes[s].self[c][t];
