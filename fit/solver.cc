@@ -188,11 +188,14 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
     s.condition[c] = std::sqrt(kappa);
     s.lambda_j[c] = lj[c];
     const Eigen::VectorXd zJ = obs.z[c](J);
-    if (constraint.kind == WeightConstraint::Kind::kWeights) {
-      // ‖Y_J w − y‖² + λ_j‖w − μ'‖² = wᵀ(G_JJ + λ_j I)w − 2wᵀ(z_J + λ_j μ') + const.
+    // ‖Y_J w − y‖² + λ_j‖w − μ'‖² = wᵀ(G_JJ + λ_j I)w − 2wᵀ(z_J + λ_j μ') + const.
+    const auto regularised = [&] {
       Eigen::MatrixXd H = cls.gram[c];
       H.diagonal().array() += lj[c];
-      W.col(c) = SolveNonNegative(H, zJ + lj[c] * prior).x;
+      return H;
+    };
+    if (constraint.kind == WeightConstraint::Kind::kWeights) {
+      W.col(c) = SolveNonNegative(regularised(), zJ + lj[c] * prior).x;
     } else if (kappa > kMaxNormalCondition && f[c].has_qr() && obs.z_qr[c].size()) {
       W.col(c) = SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], lj[c], prior);
       worst = std::max(worst, 2);
@@ -202,9 +205,7 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
     } else {
       BRDFSHOT_CHECK(kappa <= kMaxNormalCondition,
                      "a class factored without eigenvectors is ill-conditioned (κ " << kappa << ") and has no QR");
-      Eigen::MatrixXd H = cls.gram[c];
-      H.diagonal().array() += lj[c];
-      const Eigen::LLT<Eigen::MatrixXd> llt(H);
+      const Eigen::LLT<Eigen::MatrixXd> llt(regularised());
       BRDFSHOT_CHECK(llt.info() == Eigen::Success, "G_JJ + λ_j I is not positive definite at κ " << kappa);
       W.col(c) = llt.solve(zJ + lj[c] * prior);
     }

@@ -81,11 +81,11 @@ struct ClassSpectrum {
 };
 // What FactorClasses computes. The eigenvalues give the condition numbers and
 // the λ search's bound; the eigenvectors are what makes a solve at any λ two
-// small products, which the λ search, the prior sensitivity and the bin
-// constraint use. A class solved once at one fixed λ needs only the
-// eigenvalues — they cost a sixth of the whole decomposition — and SolveClass
-// then takes a Cholesky factor of G_JJ + λ_j I where it is well conditioned
-// (the QR route where not).
+// small products, which the chosen class's solve, GCV, the prior sensitivity
+// and the bin constraint use. A class solved once at one fixed λ needs only
+// the eigenvalues — about a fifth of the whole decomposition's time (4.7
+// against 22 ms at 297 bases) — and SolveClass then takes a Cholesky factor of
+// G_JJ + λ_j I where it is well conditioned (the QR route where not).
 enum class SpectrumParts { kValuesAndVectors, kEigenvalues };
 std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
                                          const std::vector<std::vector<int>>& members,
