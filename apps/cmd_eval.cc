@@ -38,7 +38,7 @@ struct EvalArgs {
         ("sphere", po::value(&eo.sphere)->default_value(eo.sphere), "sphere diameter in pixels")
         ("margin", po::value(&eo.margin)->default_value(eo.margin), "drop pixels whose normal is further than this from the view (deg)")
         ("lambda", po::value(&loo.lambda)->default_value(loo.lambda), "regularisation weight of the fixed-λ methods ours and paper (paper: 0.5)")
-        ("lambda-rule", po::value(&loo.choice.rule)->default_value(loo.choice.rule), "rule of the auto method: cv, gcv or fixed")
+        ("lambda-rule", po::value(&loo.choice.rule)->default_value(loo.choice.rule), "rule of the auto method: cv, residual, gcv or fixed")
         ("constraint", po::value(&constraint)->default_value(constraint), "what the auto method keeps non-negative: bins, weights or none")
         ("folds", po::value(&eo.folds)->default_value(eo.folds), "wedges for the auto method's cross-validation")
         ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")

@@ -33,7 +33,8 @@ struct FitArgs {
         ("obs", po::value(&obs_path), "observation file (from 'brdfshot remap') instead of --photo (comma-separated: one per --basis)")
         ("classes,c", po::value(&classes_path)->required(), "class model from 'brdfshot cluster'")
         ("lambda-rule", po::value(&fo.lambda.rule)->default_value(fo.lambda.rule),
-         "how the regularisation weight is chosen: cv (held-out wedges of the sphere), gcv, or fixed (--lambda)")
+         "how the regularisation weight is chosen: cv (held-out wedges of the sphere), residual (the least λ the "
+         "condition bound allows, class by residual), gcv, or fixed (--lambda)")
         ("lambda", po::value(&lambda), "fix the regularisation weight (the paper's: 0.5); implies --lambda-rule fixed")
         ("folds", po::value(&fo.folds)->default_value(fo.folds), "wedges for --lambda-rule cv")
         ("lambda-grid", po::value(&grid), "comma-separated λ values the rule chooses among (default: 0 … 10)")
@@ -57,8 +58,8 @@ struct FitArgs {
       l.rule = "fixed", l.fixed = lambda;
     else if (lambda != -1)
       throw Error("--lambda must be ≥ 0");
-    if (l.rule != "cv" && l.rule != "gcv" && l.rule != "fixed")
-      throw Error("unknown --lambda-rule '" + l.rule + "': cv, gcv or fixed");
+    if (l.rule != "cv" && l.rule != "residual" && l.rule != "gcv" && l.rule != "fixed")
+      throw Error("unknown --lambda-rule '" + l.rule + "': cv, residual, gcv or fixed");
     if (l.rule == "fixed" && lambda < 0) l.fixed = 0.5;
     if (o.fit.folds < 2) throw Error("--folds must be at least 2");
     CheckConditionBound(l);

@@ -143,34 +143,63 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
   }
 }
 
-// GCV's n·RSS/(n − dof)² per channel, summed, for every λ of `grid`.
-std::vector<double> GcvScores(const ClassSpectrum& cls, const Observation& obs, double n,
-                              const std::vector<double>& grid) {
+// In-sample residual ‖y_c − A_J w‖² and effective parameter count tr(H) of
+// one class, per channel, for every λ of `grid`, from the class's
+// eigendecomposition: all λ at once.
+struct ChannelResidual {
+  double rss = 0, dof = 0;
+};
+std::vector<std::array<ChannelResidual, 3>> ResidualCurve(const ClassSpectrum& cls, const Observation& obs,
+                                                          const std::vector<double>& grid) {
   const std::vector<int>& J = cls.members;
   const Eigen::Index k = static_cast<Eigen::Index>(J.size());
   const double cj = static_cast<double>(k);
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / cj);
-  std::vector<double> score(grid.size(), 0.0);
+  std::vector<std::array<ChannelResidual, 3>> out(grid.size());
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd zJ = obs.z[c](J);
     const Eigen::VectorXd r = zJ - cls.gram[c] * prior;
     const double r0 = prior.dot(cls.gram[c] * prior) - 2 * prior.dot(zJ) + obs.norm2[c];
     const Eigen::VectorXd b = cls.V[c].transpose() * r;
     const Eigen::VectorXd& e = cls.e[c];
+    // Directions with no eigenvalue left (a singular system at λ = 0) are
+    // dropped: the pseudo-inverse's residual.
     const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
     for (size_t l = 0; l < grid.size(); ++l) {
       const double lj = grid[l] * obs.norm2[c] / cj;
-      double rss = r0, dof = 0;
+      ChannelResidual& out_c = out[l][c];
+      out_c.rss = r0;
       for (Eigen::Index i = 0; i < k; ++i) {
         const double den = e[i] + lj;
         if (den <= floor) continue;
-        rss -= b[i] * b[i] * (2 / den - e[i] / (den * den));
-        dof += e[i] / den;
+        out_c.rss -= b[i] * b[i] * (2 / den - e[i] / (den * den));
+        out_c.dof += e[i] / den;
       }
-      const double free = std::max(1.0, n - dof);
-      score[l] += n * std::max(0.0, rss) / (free * free);
+      out_c.rss = std::max(0.0, out_c.rss);
     }
   }
+  return out;
+}
+
+// GCV's n·RSS/(n − dof)² per channel, summed, for every λ of `grid`.
+std::vector<double> GcvScores(const ClassSpectrum& cls, const Observation& obs, double n,
+                              const std::vector<double>& grid) {
+  std::vector<double> score(grid.size(), 0.0);
+  const auto curve = ResidualCurve(cls, obs, grid);
+  for (size_t l = 0; l < grid.size(); ++l)
+    for (const ChannelResidual& r : curve[l]) {
+      const double free = std::max(1.0, n - r.dof);
+      score[l] += n * r.rss / (free * free);
+    }
+  return score;
+}
+
+// The in-sample residual summed over RGB, for every λ of `grid`.
+std::vector<double> ResidualScores(const ClassSpectrum& cls, const Observation& obs, const std::vector<double>& grid) {
+  std::vector<double> score(grid.size(), 0.0);
+  const auto curve = ResidualCurve(cls, obs, grid);
+  for (size_t l = 0; l < grid.size(); ++l)
+    for (const ChannelResidual& r : curve[l]) score[l] += r.rss;
   return score;
 }
 }  // namespace
@@ -206,7 +235,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
     return out;
   }
-  BRDFSHOT_CHECK(opt.rule == "cv" || opt.rule == "gcv", "unknown λ rule " << opt.rule);
+  BRDFSHOT_CHECK(opt.rule == "cv" || opt.rule == "gcv" || opt.rule == "residual", "unknown λ rule " << opt.rule);
   BRDFSHOT_CHECK(opt.max_condition >= 1, "the condition bound is not resolved (ResolveConditionBound)");
   BRDFSHOT_CHECK(!opt.grid.empty());
   out.grid = opt.grid;
@@ -232,30 +261,31 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     }
   }
   std::vector<std::vector<double>> unbounded(classes.size(), std::vector<double>(opt.grid.size(), inf));
-  // Cross-validation scores whenever the folds are given: the choice for rule
-  // cv, the predicted error for both rules.
-  std::vector<std::vector<double>> cv_score = unbounded;
+  if (cv) BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty() && cv->train[0].size() == classes.size());
+  // The wedges' held-out error of class j at the λ that `at` marks.
+  auto cv_scores = [&](size_t j, const std::vector<bool>& at) {
+    const int K = static_cast<int>(held.size());
+    std::vector<std::vector<double>> per_fold(K, std::vector<double>(opt.grid.size(), 0.0));
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int k = 0; k < K; ++k)
+      AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[k], at);
+    std::vector<double> score(opt.grid.size(), inf);
+    for (size_t l = 0; l < opt.grid.size(); ++l) {
+      if (!at[l]) continue;
+      score[l] = 0;
+      for (int k = 0; k < K; ++k) score[l] += per_fold[k][l];  // in fold order: the same on any thread count
+    }
+    return score;
+  };
   for (size_t j = 0; j < classes.size(); ++j) {
     if (classes[j].members.empty()) continue;
     if (opt.rule == "gcv")
       unbounded[j] = GcvScores(classes[j], obs, opt.gcv_pixel_fraction * static_cast<double>(pixels), opt.grid);
-    if (cv) {
-      BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty() && cv->train[0].size() == classes.size());
-      const int K = static_cast<int>(held.size());
-      std::vector<std::vector<double>> per_fold(K, std::vector<double>(opt.grid.size(), 0.0));
-#pragma omp parallel for schedule(dynamic, 1)
-      for (int k = 0; k < K; ++k)
-        AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[k], scored[j]);
-      for (size_t l = 0; l < opt.grid.size(); ++l) {
-        if (!scored[j][l]) continue;
-        cv_score[j][l] = 0;
-        for (int k = 0; k < K; ++k) cv_score[j][l] += per_fold[k][l];  // in fold order: the same on any thread count
-      }
+    if (opt.rule == "residual") unbounded[j] = ResidualScores(classes[j], obs, opt.grid);
+    if (opt.rule == "cv") {
+      BRDFSHOT_CHECK(cv, "rule cv needs the folds");
+      unbounded[j] = cv_scores(j, scored[j]);
     }
-  }
-  if (opt.rule == "cv") {
-    BRDFSHOT_CHECK(cv, "rule cv needs the folds");
-    unbounded = cv_score;
   }
   out.score = unbounded;
   for (size_t j = 0; j < classes.size(); ++j)
@@ -285,8 +315,14 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   while (opt.grid[chosen_l] != out.lambda) ++chosen_l;
   const double n = opt.gcv_pixel_fraction * static_cast<double>(pixels);
   // Held-out error where the folds are given; else GCV·n = RSS/(1 − dof/n)²,
-  // the residual inflated to a prediction error.
-  const double predicted = cv ? cv_score[out.chosen_class][chosen_l] : best * n;
+  // the residual inflated to a prediction error, or the in-sample residual.
+  double predicted = opt.rule == "gcv" ? best * n : best;
+  if (cv) {
+    // The other rules' picks are scored on the wedges alone: one class, one λ.
+    std::vector<bool> at(opt.grid.size(), false);
+    at[chosen_l] = true;
+    predicted = opt.rule == "cv" ? best : cv_scores(out.chosen_class, at)[chosen_l];
+  }
   out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
   return out;
 }

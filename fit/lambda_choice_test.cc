@@ -129,6 +129,65 @@ TEST(LambdaChoice, GcvScoreMatchesTheDenseHatMatrix) {
   }
 }
 
+TEST(LambdaChoice, ResidualScoreIsTheInSampleResidualOfTheDenseRidgeSolve) {
+  const Scene s = MakeScene(8, 11);
+  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(8, 3, 0.2));
+  y.array() += 0.03 * Eigen::ArrayXXd::Random(y.rows(), 3);
+  const auto f = FactorBasisImages(s.Y);
+  const std::vector<std::vector<int>> members = {{0, 1, 2}, {3, 4, 5, 6, 7}};
+  LambdaChoiceOptions opt;
+  opt.rule = "residual";
+  opt.grid = {0, 0.01, 0.3};
+  opt.max_condition = 1e300;
+  const LambdaChoice ch =
+      ChooseLambda(f, FactorClasses(f, members), nullptr, MakeObservation(f, s.Y, y), {}, s.g.size(), opt);
+  for (size_t j = 0; j < members.size(); ++j)
+    for (size_t l = 0; l < opt.grid.size(); ++l) {
+      double want = 0;
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::MatrixXd A = s.Y[c].cast<double>()(Eigen::all, members[j]);
+        const double cj = static_cast<double>(members[j].size());
+        const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
+        const Eigen::VectorXd wj = SolveRidge(A, y.col(c), opt.grid[l] * y.col(c).squaredNorm() / cj, prior);
+        want += (A * wj - y.col(c)).squaredNorm();
+      }
+      EXPECT_NEAR(ch.score[j][l], want, 1e-7 * want) << "class " << j << " lambda " << opt.grid[l];
+    }
+}
+
+// Rule residual takes, per class, the least λ the condition bound allows (the
+// residual only grows with λ) and the class whose residual is least there; its
+// predicted error is the wedges' held-out error of that one pick, the same
+// number rule cv scores it with.
+TEST(LambdaChoice, ResidualRuleTakesTheLeastLambdaWithinTheBoundAndTheWedgesScoreIt) {
+  Scene s = MakeScene(6, 5);
+  for (int c = 0; c < 3; ++c) s.Y[c].col(4) = s.Y[c].col(1) + 1e-5f * s.Y[c].col(2);  // almost collinear
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5}, {0, 3}};
+  const auto f = FactorBasisImages(s.Y);
+  const std::vector<int> fold = WedgeFolds(s.g, 4);
+  const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, 4), members);
+  // The prior plus noise: cross-validation asks for the largest λ here.
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 0.2);
+  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(6, 3, 1.0 / 6));
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  const Observation obs = MakeObservation(f, s.Y, y);
+  const std::vector<Observation> held = FoldObservations(s.Y, y, fold, 4);
+  LambdaChoiceOptions opt;
+  opt.grid = {0, 1e-6, 1e-2, 1, 100};
+  opt.max_condition = 1e6;
+  opt.rule = "residual";
+  const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, obs, held, s.g.size(), opt);
+  EXPECT_TRUE(std::isinf(ch.score[0][0]) && std::isinf(ch.score[0][1])) << "beyond the bound";
+  EXPECT_EQ(ch.chosen_class, 0) << "all six bases leave less residual than two";
+  EXPECT_EQ(ch.lambda, 1e-2);
+  opt.rule = "cv";
+  const LambdaChoice by_cv = ChooseLambda(f, FactorClasses(f, members), &cv, obs, held, s.g.size(), opt);
+  EXPECT_GT(by_cv.lambda, 1e-2);
+  const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
+  EXPECT_NEAR(ch.predicted_error, std::sqrt(by_cv.score[0][2] / total), 1e-12);
+}
+
 TEST(LambdaChoice, ExactDataPicksTheSmallestLambdaAndPriorPlusNoiseTheLargest) {
   const Scene s = MakeScene(8, 4);
   const std::vector<int> fold = WedgeFolds(s.g, 6);

@@ -198,6 +198,9 @@ nlohmann::json FitRecord::ToJson() const {
                                        "lambdas within the condition bound"
               : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class, among the lambdas "
                                        "within the condition bound"
+              : lambda_rule == "residual"
+                  ? "smallest in-sample residual, any class, among the lambdas within the condition bound: each "
+                    "class at the least lambda the bound allows"
                                      : "given by --lambda; class by residual"}};
   j["bases"] = bases;
   j["weights"] = nlohmann::json::array();
