@@ -52,21 +52,34 @@ void AddQr(const std::array<MatrixXfR, 3>& Y, std::array<ChannelFactor, 3>* f) {
 }
 
 Eigen::VectorXd ProjectRows(const MatrixXfR& Y, const Eigen::VectorXd& y, const std::vector<int>& rows) {
+  // One pass over the float rows, widened and summed in double as they are
+  // read: the projection is bound by reading Y, so it must not write or
+  // re-read a widened copy. Eight rows per sweep of z load and store each
+  // element of z once per eight rows instead of once per row.
+  constexpr int kRows = 8;
   const Eigen::Index n = Y.cols(), count = rows.empty() ? Y.rows() : static_cast<Eigen::Index>(rows.size());
-  constexpr Eigen::Index kBlock = 256;
+  const auto row = [&](Eigen::Index i) { return rows.empty() ? i : static_cast<Eigen::Index>(rows[i]); };
   Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> blk(kBlock, n);
-  Eigen::VectorXd yb(kBlock);
-  for (Eigen::Index r0 = 0; r0 < count; r0 += kBlock) {
-    const Eigen::Index m = std::min(kBlock, count - r0);
-    for (Eigen::Index i = 0; i < m; ++i) {
-      const Eigen::Index r = rows.empty() ? r0 + i : rows[r0 + i];
-      const float* src = Y.data() + r * n;  // Y is row-major: one contiguous row
-      double* dst = blk.data() + i * n;
-      for (Eigen::Index j = 0; j < n; ++j) dst[j] = src[j];
-      yb[i] = y[r];
+  double* zd = z.data();
+  Eigen::Index i = 0;
+  for (; i + kRows <= count; i += kRows) {
+    const float* src[kRows];
+    double w[kRows];
+    for (int k = 0; k < kRows; ++k) {
+      const Eigen::Index r = row(i + k);
+      src[k] = Y.data() + r * n;  // Y is row-major: one contiguous row
+      w[k] = y[r];
     }
-    z.noalias() += blk.topRows(m).transpose() * yb.head(m);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      double s = 0;
+      for (int k = 0; k < kRows; ++k) s += w[k] * static_cast<double>(src[k][j]);
+      zd[j] += s;
+    }
+  }
+  for (; i < count; ++i) {
+    const Eigen::Index r = row(i);
+    const float* src = Y.data() + r * n;
+    for (Eigen::Index j = 0; j < n; ++j) zd[j] += y[r] * static_cast<double>(src[j]);
   }
   return z;
 }

@@ -63,8 +63,8 @@ Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const std::ar
 Eigen::MatrixXd GramOfRows(const MatrixXfR& Y, const std::vector<int>& rows = {});
 
 // Y_cᵀ y over `rows` (all rows when empty), in double: float rows are widened
-// in blocks so neither the sum over thousands of pixels nor a copy of Y in
-// double costs precision or memory.
+// as they are read, so neither the sum over thousands of pixels nor a copy of
+// Y in double costs precision or memory.
 Eigen::VectorXd ProjectRows(const MatrixXfR& Y, const Eigen::VectorXd& y, const std::vector<int>& rows = {});
 
 // The observation of basis columns `col[c]` themselves (y_c = Y_c e_col): exact

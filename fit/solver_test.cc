@@ -27,6 +27,32 @@ Eigen::MatrixXd Render(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd&
 }
 }  // namespace
 
+// The projection against Eigen's own product in double, over all rows and
+// over a row subset whose length is not a multiple of the sweep, and a sum a
+// float accumulator could not hold: 2²⁴ + 1 exceeds float's 24-bit mantissa.
+TEST(Solver, ProjectRowsIsTheDoubleProductOverTheRowsGiven) {
+  const std::array<MatrixXfR, 3> Y = Images(203, 11, 9);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Eigen::VectorXd y(203);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y[i] = u(rng);
+  const Eigen::VectorXd all = Y[0].cast<double>().transpose() * y;
+  EXPECT_LT((ProjectRows(Y[0], y) - all).cwiseAbs().maxCoeff(), 1e-12 * all.cwiseAbs().maxCoeff());
+
+  const std::vector<int> rows = {200, 3, 17, 17, 0, 99, 150, 151, 152, 5, 77, 202, 8};
+  Eigen::VectorXd some = Eigen::VectorXd::Zero(11);
+  for (int r : rows) some += y[r] * Y[0].row(r).transpose().cast<double>();
+  EXPECT_LT((ProjectRows(Y[0], y, rows) - some).cwiseAbs().maxCoeff(), 1e-12 * some.cwiseAbs().maxCoeff());
+
+  MatrixXfR ones = MatrixXfR::Ones(17, 2);
+  ones(16, 1) = 0;
+  Eigen::VectorXd big = Eigen::VectorXd::Constant(17, 1048576.0);  // 16 × 2²⁰ = 2²⁴
+  big[16] = 1;
+  const Eigen::VectorXd z = ProjectRows(ones, big);
+  EXPECT_EQ(z[0], 16777217.0);
+  EXPECT_EQ(z[1], 16777216.0);
+}
+
 // A class factored without eigenvectors solves a fixed λ by Cholesky where
 // the system is well conditioned and by the QR route where not: the same
 // weights, residual and condition as through the full spectrum.
