@@ -50,6 +50,36 @@ LooOptions Options() {
 // weights is one quadratic form, which least squares under the fitted probe
 // and the relit-space oracle both minimise: the oracle equals least squares
 // and no method relights better.
+// The relit error from Gram matrices against the images themselves,
+// ‖Y w − Y e_m‖ / ‖Y e_m‖ over RGB, for weights on a few bases (a class's
+// fit) and on all of them.
+TEST(RelativeError, IsTheRelativeImageErrorOfTheWeights) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> u(0, 1);
+  const int pixels = 40, n = 12, m = 1;
+  std::array<Eigen::MatrixXd, 3> Y, G;
+  for (int c = 0; c < 3; ++c) {
+    Y[c] = Eigen::MatrixXd::NullaryExpr(pixels, n, [&]() { return u(rng); });
+    G[c] = Y[c].transpose() * Y[c];
+  }
+  std::vector<Eigen::MatrixXd> w(5, Eigen::MatrixXd::Zero(n, 3));
+  for (int c = 0; c < 3; ++c) w[0](3 * m + c, c) = 1;  // the material itself: no error
+  w[1] = Eigen::MatrixXd::NullaryExpr(n, 3, [&]() { return u(rng); });
+  for (int c = 0; c < 3; ++c) w[3](3 * m + c, c) = 2;  // twice the material: error 1
+  for (int j : {0, 7, 11}) w[4].row(j) = Eigen::RowVector3d(u(rng), u(rng), u(rng));
+  for (int i = 0; i < 5; ++i) {
+    double num = 0, den = 0;
+    for (int c = 0; c < 3; ++c) {
+      num += (Y[c] * w[i].col(c) - Y[c].col(3 * m + c)).squaredNorm();
+      den += Y[c].col(3 * m + c).squaredNorm();
+    }
+    EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[i], m), std::sqrt(num / den), 1e-12) << "weight set " << i;
+  }
+  EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[0], m), 0, 1e-7);
+  EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[2], m), 1, 1e-12);  // no weights: the whole image is missed
+  EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[3], m), 1, 1e-12);
+}
+
 TEST(LeaveOneOut, WithProportionalScenesTheRelitOracleIsLeastSquaresAndTheFloor) {
   const PixelGeometry g = OrthographicSphere(24, 80);
   std::mt19937 rng(5);
