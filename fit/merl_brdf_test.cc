@@ -44,7 +44,9 @@ TEST(HalfDiff, RoundTripThroughDirections) {
     const HalfDiff back = ToHalfDiff(wi, wo);
     EXPECT_NEAR(back.theta_h, hd.theta_h, 1e-7);
     EXPECT_NEAR(back.theta_d, hd.theta_d, 1e-7);
-    if (hd.theta_d > 1e-3 && hd.theta_h > 1e-3) EXPECT_NEAR(std::remainder(back.phi_d - hd.phi_d, 2 * kPi), 0, 1e-6);
+    if (hd.theta_d > 1e-3 && hd.theta_h > 1e-3) {
+      EXPECT_NEAR(std::remainder(back.phi_d - hd.phi_d, 2 * kPi), 0, 1e-6);
+    }
   }
 }
 

@@ -141,10 +141,12 @@ TEST(OutOfDatabase, JointRowsOfProportionalScenesEqualTheSinglePhotos) {
     EXPECT_TRUE(std::isfinite(row.relit_mean) && row.relit_mean > 0) << row.probe;
     if (row.probe != "p0+p1") continue;
     ++pairs;
-    for (const LooRow& one : r.rows)
+    for (const LooRow& one : r.rows) {
       if (one.method == "auto-one" && one.material == row.material &&
-          (one.probe == "p0 (p0+p1)" || one.probe == "p1 (p0+p1)"))
+          (one.probe == "p0 (p0+p1)" || one.probe == "p1 (p0+p1)")) {
         EXPECT_NEAR(one.relit_mean, row.relit_mean, 1e-6 * row.relit_mean) << row.material << ", " << one.probe;
+      }
+    }
   }
   EXPECT_EQ(pairs, T);
 }

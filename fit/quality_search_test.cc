@@ -79,8 +79,9 @@ TEST(QualitySearch, LadderGoesToTheFullProbeOnlyWhenTheDefaultResamplesIt) {
   // width the sample counts never decrease.
   for (size_t i = 1; i < wide.size(); ++i) {
     EXPECT_FALSE(wide[i - 1].probe_width == 0 && wide[i].probe_width != 0) << i;
-    if (wide[i].probe_width == wide[i - 1].probe_width)
+    if (wide[i].probe_width == wide[i - 1].probe_width) {
       EXPECT_GE(wide[i].theta_samples * wide[i].phi_samples, wide[i - 1].theta_samples * wide[i - 1].phi_samples);
+    }
   }
 }
 

@@ -25,8 +25,12 @@ TEST(OrthographicSphere, MarginDropsGrazingPixels) {
 TEST(OrthographicSphere, CentrePixelFacesTheCameraAndTopPixelsFaceUp) {
   const PixelGeometry g = OrthographicSphere(101, 89.0);
   for (size_t i = 0; i < g.size(); ++i) {
-    if (g.x[i] == 50 && g.y[i] == 50) EXPECT_NEAR(g.normal[i].z, 1, 1e-12);
-    if (g.y[i] < 20) EXPECT_GT(g.normal[i].y, 0.5);  // row 0 is the top of the image
+    if (g.x[i] == 50 && g.y[i] == 50) {
+      EXPECT_NEAR(g.normal[i].z, 1, 1e-12);
+    }
+    if (g.y[i] < 20) {
+      EXPECT_GT(g.normal[i].y, 0.5);  // row 0 is the top of the image
+    }
   }
 }
 
