@@ -46,10 +46,6 @@ LooOptions Options() {
 
 }  // namespace
 
-// When every probe sees the same images up to a scale, the relit error of any
-// weights is one quadratic form, which least squares under the fitted probe
-// and the relit-space oracle both minimise: the oracle equals least squares
-// and no method relights better.
 // The relit error from Gram matrices against the images themselves,
 // ‖Y w − Y e_m‖ / ‖Y e_m‖ over RGB, for weights on a few bases (a class's
 // fit) and on all of them.
@@ -80,6 +76,10 @@ TEST(RelativeError, IsTheRelativeImageErrorOfTheWeights) {
   EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[3], m), 1, 1e-12);
 }
 
+// When every probe sees the same images up to a scale, the relit error of any
+// weights is one quadratic form, which least squares under the fitted probe
+// and the relit-space oracle both minimise: the oracle equals least squares
+// and no method relights better.
 TEST(LeaveOneOut, WithProportionalScenesTheRelitOracleIsLeastSquaresAndTheFloor) {
   const PixelGeometry g = OrthographicSphere(24, 80);
   std::mt19937 rng(5);
