@@ -135,31 +135,36 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     for (LatLongProbe& p : DirectionalScoringProbes()) scenes.push_back(std::move(p));
   std::vector<TargetScene> target_scenes;
   Stopwatch bw;
-  const MatrixXfR lobe_tables = opt.lambert_ggx ? in.lobes.Tables(base.grid) : MatrixXfR();
+  std::vector<TransportOperator> operators;
+  for (const LatLongProbe& probe : scenes)
+    operators.push_back(TransportOperator::Build(geometry, probe, base.grid, opt.quality));
+  std::vector<const TransportOperator*> ops;
+  for (const TransportOperator& t : operators) ops.push_back(&t);
+  // Every scene at once: the table reads are the same for all of them.
+  const std::vector<std::array<MatrixXfR, 3>> Ys = TransportOperator::ApplyToEach(ops, base.B);
+  std::vector<std::array<MatrixXfR, 3>> Yts, lobes;
+  if (ood) Yts = TransportOperator::ApplyToEach(ops, targets.B);
+  if (opt.lambert_ggx) lobes = TransportOperator::ApplyToEach(ops, in.lobes.Tables(base.grid));
+  if (opt.progress)
+    std::fprintf(stderr, "basis images: %zu scenes, %zu pixels x %d bases, %d theta_o levels, %.2f s\n",
+                 scenes.size(), geometry.size(), base.num_bases(), operators.front().levels(), bw.Seconds());
   for (size_t i = 0; i < scenes.size(); ++i) {
-    Stopwatch ps;
     const bool scoring_only = i >= fitted;
-    const TransportOperator t = TransportOperator::Build(geometry, scenes[i], base.grid, opt.quality);
+    const std::array<MatrixXfR, 3>& Y = Ys[i];
     SceneFactors s;
     s.probe = scenes[i].name();
     s.scoring_only = scoring_only;
     s.pixels = geometry.size();
-    const std::array<MatrixXfR, 3> Y = t.Apply(base.B);
     s.f = FactorBasisImages(Y, !scoring_only);
     if (!scoring_only) s.fold_gram = FoldGrams(Y, fold_of_pixel, opt.folds);
-    std::array<MatrixXfR, 3> Yt;
-    if (ood) Yt = t.Apply(targets.B);
-    if (!scoring_only) s.photo_noise = PhotoNoisePerMaterial(geometry, ood ? Yt : Y);
+    if (!scoring_only) s.photo_noise = PhotoNoisePerMaterial(geometry, ood ? Yts[i] : Y);
     if (ood) {
-      target_scenes.push_back(scoring_only ? MakeTargetScene(s.f, Y, Yt, one_fold, 1)
-                                           : MakeTargetScene(s.f, Y, Yt, fold_of_pixel, opt.folds));
+      target_scenes.push_back(scoring_only ? MakeTargetScene(s.f, Y, Yts[i], one_fold, 1)
+                                           : MakeTargetScene(s.f, Y, Yts[i], fold_of_pixel, opt.folds));
     }
-    if (opt.lambert_ggx) in.lobe_scenes.push_back(MakeLobeScene(ood ? Yt : Y, t.Apply(lobe_tables)));
+    if (opt.lambert_ggx) in.lobe_scenes.push_back(MakeLobeScene(ood ? Yts[i] : Y, lobes[i]));
     (scoring_only ? ev.directional_probes : ev.probes).push_back(s.probe);
     in.scenes.push_back(std::move(s));
-    if (opt.progress)
-      std::fprintf(stderr, "basis images: %s, %zu pixels x %d bases, %d theta_o levels, %.2f s\n",
-                   scenes[i].name().c_str(), geometry.size(), base.num_bases(), t.levels(), ps.Seconds());
   }
   ev.seconds_basis = bw.Seconds();
 

@@ -126,27 +126,45 @@ TransportOperator TransportOperator::Build(const PixelGeometry& g, const LatLong
   return t;
 }
 
+bool TransportOperator::SharesTableReadsWith(const TransportOperator& o) const {
+  const RenderQuality &a = quality_, &b = o.quality_;
+  return grid_ == o.grid_ && a.theta_samples == b.theta_samples && a.phi_samples == b.phi_samples &&
+         a.level_step_deg == b.level_step_deg && a.level_substeps == b.level_substeps &&
+         a.brdf_supersample == b.brdf_supersample;
+}
+
 template <typename RowFn>
-std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row) const {
+std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyImpl(const std::vector<const TransportOperator*>& ops,
+                                                                   Eigen::Index n, RowFn row) {
+  BRDFSHOT_CHECK(!ops.empty());
+  const TransportOperator& t0 = *ops.front();
+  for (const TransportOperator* t : ops)
+    BRDFSHOT_CHECK(t->SharesTableReadsWith(t0), "operators applied together must share grid and table sampling");
+  const long n_ops = static_cast<long>(ops.size());
   // Y is hundreds of MB: huge pages, and first touched by the threads in
   // parallel below (see util/huge_pages.h for what 4 KB faults cost).
-  std::array<MatrixXfR, 3> Y;
-  for (auto& y : Y) {
-    y.resize(pixels(), n);
-    AdviseHugePages(y.data(), sizeof(float) * y.size());
-  }
-  const double step = quality_.level_step_deg * kPi / 180;
-  const int nt = quality_.theta_samples, K = quality_.level_substeps;
-  const Eigen::Index S_all = static_cast<Eigen::Index>(samples_.size());
+  std::vector<std::array<MatrixXfR, 3>> Ys(ops.size());
+  for (size_t o = 0; o < ops.size(); ++o)
+    for (auto& y : Ys[o]) {
+      y.resize(ops[o]->pixels(), n);
+      AdviseHugePages(y.data(), sizeof(float) * y.size());
+    }
+  const RenderQuality& quality = t0.quality_;
+  const std::vector<Sample>& samples = t0.samples_;
+  const int n_levels = t0.n_levels_;
+  const double step = quality.level_step_deg * kPi / 180;
+  const int nt = quality.theta_samples, K = quality.level_substeps;
+  const Eigen::Index S_all = static_cast<Eigen::Index>(samples.size());
   // Table reads per cell: ~1 per MERL θ_h bin the cell spans (2 changed no
   // error by more than 0.1 % in bench-basis), 2 across φ_h.
-  const int su = quality_.brdf_supersample > 0 ? quality_.brdf_supersample : std::max(1, (grid_.n_th + nt - 1) / nt);
+  const int su = quality.brdf_supersample > 0 ? quality.brdf_supersample
+                                              : std::max(1, (t0.grid_.n_th + nt - 1) / nt);
   const int sp = su > 1 ? 2 : 1;
   // Levels are processed in chunks so that only chunk + 1 matrices M live at
   // once; the last level of a chunk is the first of the next.
   constexpr int kChunk = 8;
   std::vector<MatrixXfR> M(kChunk + 1);
-  const int n_sub = static_cast<int>(sublevel_pixels_.size());
+  const int n_sub = static_cast<int>(t0.sublevel_pixels_.size());
 #pragma omp parallel
   {
     RowFn row_local = row;  // per thread: the functor may keep scratch space
@@ -157,12 +175,13 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
     // Per-thread products, grown as needed: a sub-level's A, M and A·M live
     // only for one iteration, and reallocating them there costs page faults.
     std::vector<float> a_buf, m_buf, am_buf;
-    for (auto& y : Y) {
+    for (auto& Y : Ys)
+      for (auto& y : Y) {
 #pragma omp for schedule(static)
-      for (Eigen::Index p = 0; p < y.rows(); ++p) y.row(p).setZero();
-    }
-    for (int l0 = 0; l0 < n_levels_ - 1; l0 += kChunk) {
-      const int l1 = std::min(n_levels_ - 1, l0 + kChunk);  // levels l0..l1 inclusive
+        for (Eigen::Index p = 0; p < y.rows(); ++p) y.row(p).setZero();
+      }
+    for (int l0 = 0; l0 < n_levels - 1; l0 += kChunk) {
+      const int l1 = std::min(n_levels - 1, l0 + kChunk);  // levels l0..l1 inclusive
       const int first_new = l0 == 0 ? 0 : 1;
 #pragma omp single
       {
@@ -171,7 +190,8 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
       }
       // M per level: the table averaged over each sample's cell, weighted by
       // cos θ_i dω_i (weights normalised, so a cell cut by the horizon stays
-      // bounded); rows of samples below the horizon are zero.
+      // bounded); rows of samples below the horizon are zero. M depends on
+      // neither the lighting nor the pixels, so every operator shares it.
       // Sample-major: the levels of one sample read overlapping table rows
       // (θ_d moves by about a bin per level), so visiting them back to back
       // reads each row from cache rather than from the 1.7 GB table again.
@@ -179,7 +199,7 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
 #pragma omp for schedule(dynamic, 32)
       for (long r = 0; r < n_new * S_all; ++r) {
         const int l = first_new + static_cast<int>(r % n_new);
-        const Sample& smp = samples_[r / n_new];
+        const Sample& smp = samples[r / n_new];
         const double tl = std::min(kPi / 2, (l0 + l) * step);
         const Vec3 wo_l(std::sin(tl), 0, std::cos(tl));
         points.clear();
@@ -202,13 +222,18 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
         for (TablePoint& pt : points) pt.weight /= wsum;
         row_local(points, M[l].row(r / n_new).data());
       }
-      // Sub-levels of this chunk (the very last level belongs to the last chunk).
-      const int j_end = l1 == n_levels_ - 1 ? n_sub : l1 * K;
+      // Sub-levels of this chunk, of every operator (the very last level
+      // belongs to the last chunk).
+      const int j_begin = l0 * K, j_end = l1 == n_levels - 1 ? n_sub : l1 * K;
+      const long n_j = j_end - j_begin;
 #pragma omp for schedule(dynamic, 1)
-      for (int j = l0 * K; j < j_end; ++j) {
-        const std::vector<uint32_t>& px = sublevel_pixels_[j];
+      for (long q = 0; q < n_ops * n_j; ++q) {
+        const TransportOperator& t = *ops[q / n_j];
+        std::array<MatrixXfR, 3>& Y = Ys[q / n_j];
+        const int j = j_begin + static_cast<int>(q % n_j);
+        const std::vector<uint32_t>& px = t.sublevel_pixels_[j];
         if (px.empty()) continue;
-        const int l = std::min(j / K, n_levels_ - 2);
+        const int l = std::min(j / K, n_levels - 2);
         const float f = static_cast<float>(j - l * K) / K;
         const MatrixXfR& Ma = M[l - l0];
         const MatrixXfR& Mb = M[l - l0 + 1];
@@ -218,7 +243,7 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
         const Vec3 wo_j(std::sin(tj), 0, std::cos(tj));
         active.clear();
         for (int s = 0; s < S_all; ++s) {
-          const Vec3& h = samples_[s].h;
+          const Vec3& h = samples[s].h;
           const double cd = Dot(wo_j, h);
           if (cd <= 0 || 2 * cd * h.z - wo_j.z <= -2 * step) continue;
           active.push_back(s);
@@ -234,7 +259,7 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
         // Active samples as float arrays, for the vectorised loop below.
         hs.resize(4 * S);
         for (Eigen::Index k = 0; k < S; ++k) {
-          const Sample& smp = samples_[active[k]];
+          const Sample& smp = samples[active[k]];
           hs[k] = static_cast<float>(smp.h.x), hs[S + k] = static_cast<float>(smp.h.y);
           hs[2 * S + k] = static_cast<float>(smp.h.z), hs[3 * S + k] = static_cast<float>(4 * smp.dwh);
         }
@@ -243,8 +268,8 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
         // A: each pixel's lighting per sample, channel-major rows.
         for (Eigen::Index i = 0; i < P; ++i) {
           const size_t p = px[i];
-          const Frame fr = Frame::FromZX(normal_[p], view_[p]);
-          const Vec3 wo_d = fr.ToLocal(view_[p]);
+          const Frame fr = Frame::FromZX(t.normal_[p], t.view_[p]);
+          const Vec3 wo_d = fr.ToLocal(t.view_[p]);
           const float wox = static_cast<float>(wo_d.x), woy = static_cast<float>(wo_d.y),
                       woz = static_cast<float>(wo_d.z);
           float F[9];  // local → probe frame, row-major
@@ -261,7 +286,7 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
             omega[k] = ok ? cd * dw4[k] : 0.0f;  // dω_i = 4 (ω_o·h) dω_h
             weight[k] = ok ? wz * omega[k] : 0.0f;
           }
-          probe_->LookupMany(static_cast<int>(S), dir.data(), omega.data(), scratch.data(), rgb.data());
+          t.probe_->LookupMany(static_cast<int>(S), dir.data(), omega.data(), scratch.data(), rgb.data());
           for (int c = 0; c < 3; ++c) {
             float* a_row = A.row(c * P + i).data();
             for (Eigen::Index k = 0; k < S; ++k) a_row[k] = weight[k] * rgb[3 * k + c];
@@ -273,13 +298,16 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
       }
     }
     // Suns: exact per pixel, the table read at the pixel's own (ω_i, ω_o).
-    if (!lights_.empty()) {
+    for (long o = 0; o < n_ops; ++o) {
+      const TransportOperator& t = *ops[o];
+      if (t.lights_.empty()) continue;
+      std::array<MatrixXfR, 3>& Y = Ys[o];
 #pragma omp for schedule(dynamic, 16)
-      for (long p = 0; p < static_cast<long>(pixels()); ++p) {
-        const Frame f = Frame::FromZX(normal_[p], view_[p]);
-        const Vec3 wo = f.ToLocal(view_[p]);
+      for (long p = 0; p < static_cast<long>(t.pixels()); ++p) {
+        const Frame f = Frame::FromZX(t.normal_[p], t.view_[p]);
+        const Vec3 wo = f.ToLocal(t.view_[p]);
         if (wo.z <= 0) continue;
-        for (const DirectionalLight& l : lights_) {
+        for (const DirectionalLight& l : t.lights_) {
           const Vec3 wi = f.ToLocal(l.direction);
           if (wi.z <= 0) continue;
           points.assign(1, TablePoint{ToHalfDiff(wi, wo), 1.0});
@@ -293,25 +321,32 @@ std::array<MatrixXfR, 3> TransportOperator::ApplyImpl(Eigen::Index n, RowFn row)
       }
     }
   }
-  return Y;
+  return Ys;
 }
 
 std::array<MatrixXfR, 3> TransportOperator::Apply(const MatrixXfR& B) const {
-  BRDFSHOT_CHECK(static_cast<size_t>(B.rows()) == grid_.size(),
-                 "basis matrix has " << B.rows() << " rows, operator expects " << grid_.size());
+  return std::move(ApplyToEach({this}, B).front());
+}
+
+std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyToEach(const std::vector<const TransportOperator*>& ops,
+                                                                      const MatrixXfR& B) {
+  BRDFSHOT_CHECK(!ops.empty());
+  const MerlGrid& grid = ops.front()->grid_;
+  BRDFSHOT_CHECK(static_cast<size_t>(B.rows()) == grid.size(),
+                 "basis matrix has " << B.rows() << " rows, operator expects " << grid.size());
   const Eigen::Index n = B.cols();
   struct Corner {
     size_t idx;
     double w;
   };
-  return ApplyImpl(n, [&, corners = std::vector<Corner>()](const std::vector<TablePoint>& pts, float* out) mutable {
+  return ApplyImpl(ops, n, [&, corners = std::vector<Corner>()](const std::vector<TablePoint>& pts, float* out) mutable {
     // Gather every point's trilinear corners, merge repeated entries, then read
     // each table row once.
     corners.clear();
     for (const TablePoint& pt : pts) {
       size_t idx[8];
       double w[8];
-      const int k = grid_.TrilinearCorners(pt.hd, idx, w);
+      const int k = grid.TrilinearCorners(pt.hd, idx, w);
       for (int a = 0; a < k; ++a) corners.push_back({idx[a], w[a] * pt.weight});
     }
     std::sort(corners.begin(), corners.end(), [](const Corner& x, const Corner& y) { return x.idx < y.idx; });
@@ -329,7 +364,7 @@ std::array<MatrixXfR, 3> TransportOperator::Apply(const MatrixXfR& B) const {
 
 Eigen::MatrixXd TransportOperator::Render(const MerlBrdf& brdf) const {
   BRDFSHOT_CHECK(brdf.grid() == grid_, "BRDF grid differs from the operator's grid");
-  const auto Y = ApplyImpl(3, [&](const std::vector<TablePoint>& pts, float* out) {
+  const auto Y = ApplyImpl({this}, 3, [&](const std::vector<TablePoint>& pts, float* out) {
     // Unmeasured entries read as 0, exactly as the basis matrix stores them, so
     // rendering a table and applying the operator to its columns agree.
     double acc[3] = {0, 0, 0};
@@ -341,7 +376,7 @@ Eigen::MatrixXd TransportOperator::Render(const MerlBrdf& brdf) const {
         for (int c = 0; c < 3; ++c) acc[c] += pt.weight * w[a] * std::max(0.0, brdf.Value(c, idx[a]));
     }
     for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(acc[c]);
-  });
+  }).front();
   Eigen::MatrixXd y(pixels(), 3);
   for (int c = 0; c < 3; ++c) y.col(c) = Y[c].col(c).cast<double>();
   return y;

@@ -92,6 +92,15 @@ class TransportOperator {
 
   // Y_c = T_c B for c = R, G, B light channels: each pixels × B.cols().
   std::array<MatrixXfR, 3> Apply(const MatrixXfR& B) const;
+  // Apply for each operator, reading the table once for all of them: its
+  // averages over the half-vector cells (M, above) depend on neither the
+  // lighting nor the pixels, only on the grid and the sampling, which the
+  // operators must share (SharesTableReadsWith, checked). The result is
+  // each operator's Apply(B), in order.
+  static std::vector<std::array<MatrixXfR, 3>> ApplyToEach(const std::vector<const TransportOperator*>& ops,
+                                                           const MatrixXfR& B);
+  // Same grid, half-vector cells and θ_o levels: what ApplyToEach needs.
+  bool SharesTableReadsWith(const TransportOperator& other) const;
   // Image of one tabulated BRDF (channel c under light channel c): pixels × 3.
   Eigen::MatrixXd Render(const MerlBrdf& brdf) const;
 
@@ -107,9 +116,11 @@ class TransportOperator {
     double weight;
   };
   // Y_c for a BRDF given by `row(points, out)`: writes the `n` column values of
-  // Σ weight · ρ(hd) over the points.
+  // Σ weight · ρ(hd) over the points. One result per operator of `ops`, which
+  // share their table reads.
   template <typename RowFn>
-  std::array<MatrixXfR, 3> ApplyImpl(Eigen::Index n, RowFn row) const;
+  static std::vector<std::array<MatrixXfR, 3>> ApplyImpl(const std::vector<const TransportOperator*>& ops,
+                                                         Eigen::Index n, RowFn row);
 
   MerlGrid grid_;
   RenderQuality quality_;

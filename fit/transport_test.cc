@@ -109,6 +109,48 @@ TEST(Transport, RenderingAWeightVectorEqualsYTimesW) {
   }
 }
 
+// Sharing the table reads is only a reordering of the work: each operator's
+// images are those it renders alone, for different pixels, probes and suns.
+TEST(Transport, ApplyingSeveralOperatorsAtOnceGivesEachItsOwnImages) {
+  const MerlGrid grid{30, 30, 60};
+  MatrixXfR B(grid.size(), 4);
+  for (Eigen::Index r = 0; r < B.rows(); ++r)
+    for (Eigen::Index c = 0; c < B.cols(); ++c) B(r, c) = static_cast<float>(((r * 13 + c * 7) % 29) / 29.0);
+  cv::Mat noisy(32, 64, CV_32FC3);
+  cv::randu(noisy, 0, 4);
+  cv::Mat sun(32, 64, CV_32FC3, cv::Scalar::all(0.1));
+  sun.at<cv::Vec3f>(9, 20) = cv::Vec3f(5000, 4000, 3000);  // split off as a directional light
+  const TransportOperator a = TransportOperator::Build(OrthographicSphere(24, 80), LatLongProbe(noisy), grid, {});
+  const TransportOperator b = TransportOperator::Build(OrthographicSphere(17, 60), LatLongProbe(sun), grid, {});
+  ASSERT_TRUE(a.lights().empty());
+  ASSERT_FALSE(b.lights().empty());
+  const auto both = TransportOperator::ApplyToEach({&a, &b, &a}, B);
+  ASSERT_EQ(both.size(), 3u);
+  const std::array<MatrixXfR, 3> alone[3] = {a.Apply(B), b.Apply(B), a.Apply(B)};
+  for (int o = 0; o < 3; ++o)
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_EQ(both[o][c].rows(), alone[o][c].rows());
+      EXPECT_GT(alone[o][c].norm(), 0);
+      EXPECT_LE((both[o][c] - alone[o][c]).cwiseAbs().maxCoeff(), 1e-6f * alone[o][c].cwiseAbs().maxCoeff())
+          << "operator " << o << " channel " << c;
+    }
+}
+
+TEST(Transport, OperatorsWithDifferentSamplingAreNotAppliedTogether) {
+  const MerlGrid grid{30, 30, 60};
+  const PixelGeometry g = OrthographicSphere(16, 80);
+  RenderQuality finer;
+  finer.theta_samples = 40;
+  const TransportOperator a = TransportOperator::Build(g, Constant(64, 1.0f), grid, {});
+  const TransportOperator b = TransportOperator::Build(g, Constant(64, 1.0f), grid, finer);
+  RenderQuality other_probe_width;
+  other_probe_width.probe_width = 32;  // the lighting's resolution is each operator's own
+  const TransportOperator c = TransportOperator::Build(g, Constant(64, 1.0f), grid, other_probe_width);
+  EXPECT_FALSE(a.SharesTableReadsWith(b));
+  EXPECT_TRUE(a.SharesTableReadsWith(c));
+  EXPECT_THROW(TransportOperator::ApplyToEach({&a, &b}, MatrixXfR::Ones(grid.size(), 2)), std::logic_error);
+}
+
 }  // namespace brdfshot
 
 namespace brdfshot {
