@@ -262,30 +262,33 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   }
   std::vector<std::vector<double>> unbounded(classes.size(), std::vector<double>(opt.grid.size(), inf));
   if (cv) BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty() && cv->train[0].size() == classes.size());
-  // The wedges' held-out error of class j at the λ that `at` marks.
-  auto cv_scores = [&](size_t j, const std::vector<bool>& at) {
-    const int K = static_cast<int>(held.size());
-    std::vector<std::vector<double>> per_fold(K, std::vector<double>(opt.grid.size(), 0.0));
+  if (opt.rule == "cv") {
+    // The wedges' held-out error of every class at its scored λ: one task per
+    // class and wedge, all in one parallel loop, so that the small classes'
+    // tasks fill in beside the large ones'.
+    BRDFSHOT_CHECK(cv, "rule cv needs the folds");
+    const int K = static_cast<int>(held.size()), J = static_cast<int>(classes.size());
+    std::vector<std::vector<double>> per_fold(static_cast<size_t>(J) * K, std::vector<double>(opt.grid.size(), 0.0));
 #pragma omp parallel for schedule(dynamic, 1)
-    for (int k = 0; k < K; ++k)
-      AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[k], at);
-    std::vector<double> score(opt.grid.size(), inf);
-    for (size_t l = 0; l < opt.grid.size(); ++l) {
-      if (!at[l]) continue;
-      score[l] = 0;
-      for (int k = 0; k < K; ++k) score[l] += per_fold[k][l];  // in fold order: the same on any thread count
+    for (int q = 0; q < J * K; ++q) {
+      const int j = q / K, k = q % K;
+      if (!classes[j].members.empty())
+        AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[q], scored[j]);
     }
-    return score;
-  };
+    for (int j = 0; j < J; ++j) {
+      if (classes[j].members.empty()) continue;
+      for (size_t l = 0; l < opt.grid.size(); ++l) {
+        if (!scored[j][l]) continue;
+        unbounded[j][l] = 0;
+        for (int k = 0; k < K; ++k) unbounded[j][l] += per_fold[j * K + k][l];  // in fold order: the same on any thread count
+      }
+    }
+  }
   for (size_t j = 0; j < classes.size(); ++j) {
     if (classes[j].members.empty()) continue;
     if (opt.rule == "gcv")
       unbounded[j] = GcvScores(classes[j], obs, opt.gcv_pixel_fraction * static_cast<double>(pixels), opt.grid);
     if (opt.rule == "residual") unbounded[j] = ResidualScores(classes[j], obs, opt.grid);
-    if (opt.rule == "cv") {
-      BRDFSHOT_CHECK(cv, "rule cv needs the folds");
-      unbounded[j] = cv_scores(j, scored[j]);
-    }
   }
   out.score = unbounded;
   for (size_t j = 0; j < classes.size(); ++j)
@@ -321,7 +324,17 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     // The other rules' picks are scored on the wedges alone: one class, one λ.
     std::vector<bool> at(opt.grid.size(), false);
     at[chosen_l] = true;
-    predicted = opt.rule == "cv" ? best : cv_scores(out.chosen_class, at)[chosen_l];
+    if (opt.rule == "cv") {
+      predicted = best;
+    } else {
+      predicted = 0;
+      for (size_t k = 0; k < held.size(); ++k) {
+        std::vector<double> s(opt.grid.size(), 0.0);
+        AddFoldScores(cv->train[k][out.chosen_class], cv->held_class[k][out.chosen_class], obs, held[k], opt.grid,
+                      &s, at);
+        predicted += s[chosen_l];  // in fold order, as the cv rule sums
+      }
+    }
   }
   out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
   return out;

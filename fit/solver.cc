@@ -52,34 +52,18 @@ void AddQr(const std::array<MatrixXfR, 3>& Y, std::array<ChannelFactor, 3>* f) {
 }
 
 Eigen::VectorXd ProjectRows(const MatrixXfR& Y, const Eigen::VectorXd& y, const std::vector<int>& rows) {
-  // One pass over the float rows, widened and summed in double as they are
-  // read: the projection is bound by reading Y, so it must not write or
-  // re-read a widened copy. Eight rows per sweep of z load and store each
-  // element of z once per eight rows instead of once per row.
-  constexpr int kRows = 8;
+  // One pass over the float rows, each widened and added to z in double as it
+  // is read (z stays in L1): no widened copy is written and read back, and one
+  // row at a time reads one contiguous stream. Sweeps of several rows at once
+  // keep z in registers but are slower here (docs/benchmarks.md).
   const Eigen::Index n = Y.cols(), count = rows.empty() ? Y.rows() : static_cast<Eigen::Index>(rows.size());
-  const auto row = [&](Eigen::Index i) { return rows.empty() ? i : static_cast<Eigen::Index>(rows[i]); };
   Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
   double* zd = z.data();
-  Eigen::Index i = 0;
-  for (; i + kRows <= count; i += kRows) {
-    const float* src[kRows];
-    double w[kRows];
-    for (int k = 0; k < kRows; ++k) {
-      const Eigen::Index r = row(i + k);
-      src[k] = Y.data() + r * n;  // Y is row-major: one contiguous row
-      w[k] = y[r];
-    }
-    for (Eigen::Index j = 0; j < n; ++j) {
-      double s = 0;
-      for (int k = 0; k < kRows; ++k) s += w[k] * static_cast<double>(src[k][j]);
-      zd[j] += s;
-    }
-  }
-  for (; i < count; ++i) {
-    const Eigen::Index r = row(i);
-    const float* src = Y.data() + r * n;
-    for (Eigen::Index j = 0; j < n; ++j) zd[j] += y[r] * static_cast<double>(src[j]);
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const Eigen::Index r = rows.empty() ? i : static_cast<Eigen::Index>(rows[i]);
+    const float* src = Y.data() + r * n;  // Y is row-major: one contiguous row
+    const double w = y[r];
+    for (Eigen::Index j = 0; j < n; ++j) zd[j] += w * static_cast<double>(src[j]);
   }
   return z;
 }
@@ -87,8 +71,9 @@ Eigen::VectorXd ProjectRows(const MatrixXfR& Y, const Eigen::VectorXd& y, const 
 Observation MakeObservation(const std::array<ChannelFactor, 3>& f, const std::array<MatrixXfR, 3>& Y,
                             const Eigen::MatrixXd& y) {
   Observation o;
+  for (int c = 0; c < 3; ++c) BRDFSHOT_CHECK(y.rows() == Y[c].rows());
+#pragma omp parallel for schedule(dynamic, 1)
   for (int c = 0; c < 3; ++c) {
-    BRDFSHOT_CHECK(y.rows() == Y[c].rows());
     const Eigen::VectorXd yc = y.col(c);
     o.z[c] = ProjectRows(Y[c], yc);
     o.norm2[c] = yc.squaredNorm();

@@ -119,6 +119,44 @@ void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: no
 }
 BENCHMARK(BM_SolveWithLambdaChoice)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The choice's three parts, each alone: projecting the photo by wedge (one
+// pass over the basis images), its pixel-noise estimate, and scoring the
+// classes and λ within the bound then solving the pick.
+void BM_ChoicePartProjectByWedge(benchmark::State& state) {
+  const Problem& p = TheProblem();
+  const std::vector<int> fold = WedgeFolds(p.g, 6);
+  for (auto _ : state) {
+    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
+    benchmark::DoNotOptimize(SumObservations(held));
+  }
+}
+BENCHMARK(BM_ChoicePartProjectByWedge)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ChoicePartPhotoNoise(benchmark::State& state) {
+  const Problem& p = TheProblem();
+  for (auto _ : state) benchmark::DoNotOptimize(RelativePixelNoise(p.g, p.y));
+}
+BENCHMARK(BM_ChoicePartPhotoNoise)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ChoicePartScoreAndSolve(benchmark::State& state) {
+  const Problem& p = TheProblem();
+  const std::vector<int> fold = WedgeFolds(p.g, 6);
+  const auto f = FactorBasisImages(p.Y, false);
+  const auto classes = FactorClasses(f, p.members);
+  const CvSystem cv = FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members);
+  const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
+  const Observation obs = SumObservations(held);
+  const LambdaChoiceOptions opt = ResolveConditionBound(LambdaChoiceOptions{}, RelativePixelNoise(p.g, p.y));
+  LambdaChoice ch;
+  for (auto _ : state) {
+    ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), opt);
+    benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda));
+  }
+  state.counters["condition_bound"] = opt.max_condition;
+  state.counters["lambda"] = ch.lambda;
+}
+BENCHMARK(BM_ChoicePartScoreAndSolve)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // The default's non-negative constraint: 47 k sampled bins of a table (every
 // 31st of the 1.46 M), non-negative and heavy-tailed as BRDFs are; the bins
 // restricted to each class are photo-independent and built outside the loop.
