@@ -132,6 +132,21 @@ void BM_ChoicePartProjectByWedge(benchmark::State& state) {
 }
 BENCHMARK(BM_ChoicePartProjectByWedge)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// What reading the basis images alone costs (the projection's floor): the
+// same bytes summed in float, rows split over the threads.
+void BM_ReadBasisImagesOnly(benchmark::State& state) {
+  const Problem& p = TheProblem();
+  for (auto _ : state) {
+    double total = 0;
+    for (const MatrixXfR& Y : p.Y) {
+#pragma omp parallel for schedule(static) reduction(+ : total)
+      for (Eigen::Index r = 0; r < Y.rows(); ++r) total += Y.row(r).sum();
+    }
+    benchmark::DoNotOptimize(total);
+  }
+}
+BENCHMARK(BM_ReadBasisImagesOnly)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 void BM_ChoicePartPhotoNoise(benchmark::State& state) {
   const Problem& p = TheProblem();
   for (auto _ : state) benchmark::DoNotOptimize(RelativePixelNoise(p.g, p.y));
