@@ -62,6 +62,23 @@ const Problem& TheProblem() {
   return p;
 }
 
+// The photo-independent part of the default fit: 6 wedges, the Gram
+// factorisation, the class spectra and the wedges' systems.
+struct ChoiceFactors {
+  std::vector<int> fold;
+  std::array<ChannelFactor, 3> f;
+  std::vector<ClassSpectrum> classes;
+  CvSystem cv;
+};
+ChoiceFactors FactorForChoice(const Problem& p) {
+  ChoiceFactors x;
+  x.fold = WedgeFolds(p.g, 6);
+  x.f = FactorBasisImages(p.Y, false);
+  x.classes = FactorClasses(x.f, p.members);
+  x.cv = FactorFolds(x.f, FoldGrams(p.Y, x.fold, 6), p.members);
+  return x;
+}
+
 void BM_FactorGram(benchmark::State& state) {
   const Problem& p = TheProblem();
   for (auto _ : state) benchmark::DoNotOptimize(FactorBasisImages(p.Y, false));
@@ -105,10 +122,8 @@ BENCHMARK(BM_SolveFixedLambda)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: noise, bound, wedge pick
   const Problem& p = TheProblem();
-  const std::vector<int> fold = WedgeFolds(p.g, 6);
-  const auto f = FactorBasisImages(p.Y, false);
-  const auto classes = FactorClasses(f, p.members);
-  const CvSystem cv = FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members);
+  const ChoiceFactors x = FactorForChoice(p);
+  const auto& [fold, f, classes, cv] = x;
   for (auto _ : state) {
     const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
     const Observation obs = SumObservations(held);
@@ -155,10 +170,8 @@ BENCHMARK(BM_ChoicePartPhotoNoise)->Unit(benchmark::kMillisecond)->UseRealTime()
 
 void BM_ChoicePartScoreAndSolve(benchmark::State& state) {
   const Problem& p = TheProblem();
-  const std::vector<int> fold = WedgeFolds(p.g, 6);
-  const auto f = FactorBasisImages(p.Y, false);
-  const auto classes = FactorClasses(f, p.members);
-  const CvSystem cv = FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members);
+  const ChoiceFactors x = FactorForChoice(p);
+  const auto& [fold, f, classes, cv] = x;
   const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
   const Observation obs = SumObservations(held);
   const LambdaChoiceOptions opt = ResolveConditionBound(LambdaChoiceOptions{}, RelativePixelNoise(p.g, p.y));
@@ -177,10 +190,8 @@ BENCHMARK(BM_ChoicePartScoreAndSolve)->Unit(benchmark::kMillisecond)->UseRealTim
 // restricted to each class are photo-independent and built outside the loop.
 void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
   const Problem& p = TheProblem();
-  const std::vector<int> fold = WedgeFolds(p.g, 6);
-  const auto f = FactorBasisImages(p.Y, false);
-  const auto classes = FactorClasses(f, p.members);
-  const CvSystem cv = FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members);
+  const ChoiceFactors x = FactorForChoice(p);
+  const auto& [fold, f, classes, cv] = x;
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(0, 1);
   const MatrixXfR tables = MatrixXfR::NullaryExpr(47000, 300, [&]() {
