@@ -26,7 +26,7 @@ struct EvalArgs {
   QualityArgs quality;
   EvaluationOptions eo;
   std::string probes, out = "eval_out", grid, constraint = "bins", shard, merge;
-  bool no_directional = false;
+  bool no_directional = false, check_whole_table = false;
 
   void Add(po::options_description& desc) {
     LooOptions& loo = eo.loo;
@@ -40,6 +40,8 @@ struct EvalArgs {
         ("lambda", po::value(&loo.lambda)->default_value(loo.lambda), "regularisation weight of the fixed-λ methods ours and paper (paper: 0.5)")
         ("lambda-rule", po::value(&loo.choice.rule)->default_value(loo.choice.rule), "rule of the auto method: cv, residual, gcv or fixed")
         ("constraint", po::value(&constraint)->default_value(constraint), "what the auto method keeps non-negative: bins, weights or none")
+        ("check-whole-table", po::bool_switch(&check_whole_table), "with --constraint bins: after every 31st bin, check the whole "
+         "table and constrain the bins below zero, as fit does (about 3x the run's time)")
         ("folds", po::value(&eo.folds)->default_value(eo.folds), "wedges for the auto method's cross-validation")
         ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
         ("joint", po::bool_switch(&loo.joint), "also fit every material from two photos at once (each probe's with the next "
@@ -64,6 +66,7 @@ struct EvalArgs {
     CheckConditionBound(eo.loo.choice);
     eo.loo.constraint = ParseConstraint(constraint);
     eo.directional = !no_directional;
+    eo.check_whole_table = check_whole_table;
     eo.quality = quality.q;
     eo.progress = true;
     if (!shard.empty()) {
@@ -86,6 +89,9 @@ struct EvalArgs {
       << "x" << ev.grid.n_td << "x" << ev.grid.n_pd << "); sphere " << eo.sphere << " px (" << ev.pixels
       << " pixels, margin " << eo.margin << "°); quality " << eo.quality.Describe() << "; auto: λ by "
       << eo.loo.choice.rule << " over " << eo.folds << " wedges, constraint: " << ConstraintName(eo.loo.constraint)
+      << (eo.loo.constraint != WeightConstraint::Kind::kBins ? ""
+          : eo.check_whole_table                             ? " (the whole table checked)"
+                                                             : " (every 31st bin only)")
       << "; ours and paper: λ = " << eo.loo.lambda << "; N = " << eo.loo.gmm.dims << ", K = " << eo.loo.gmm.classes << " on the " << eo.class_features
       << " tables";
     return s.str();

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "calib/sun_probe.h"
 #include "fit/class_model.h"
 #include "fit/lambda_choice.h"
 #include "fit/ood_eval.h"
 #include "fit/photo_noise.h"
+#include "fit/table_check.h"
 #include "util/check.h"
 #include "util/progress.h"
 
@@ -103,8 +105,11 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
   } else if (opt.class_features != "linear") {
     throw Error("unknown class features '" + opt.class_features + "' (" + ClassFeaturesHelp() + ")");
   }
-  if (opt.loo.constraint == WeightConstraint::Kind::kBins)
+  std::unique_ptr<TableCheck> table_check;  // reads base.B, which lives to the end of the run
+  if (opt.loo.constraint == WeightConstraint::Kind::kBins) {
     in.constraint_sample = SampleBins(base.B, opt.constraint_stride);
+    if (opt.check_whole_table) table_check = std::make_unique<TableCheck>(base.B), in.table_check = table_check.get();
+  }
   if (opt.count_negative_bins) {
     in.bin_sample = SampleBins(base.B, 9 * opt.constraint_stride, opt.constraint_stride / 2);
     ev.lowest_basis_value = in.bin_sample.size() ? in.bin_sample.minCoeff() : 0.0f;

@@ -31,6 +31,10 @@ struct EvaluationOptions {
   // bins the constraint never saw. A prime stride keeps both samples from
   // aliasing with the grid's dimensions.
   int constraint_stride = 31;
+  // Then the whole table is checked and bins below zero join the constraint,
+  // as `fit` does (fit/table_check.h). Off by default: over a whole set it
+  // costs about twice the rest of the fits (docs/benchmarks.md).
+  bool check_whole_table = false;
   bool count_negative_bins = true;
   std::string class_features = "linear";  // ClassFeaturesHelp()
   bool lambert_ggx = true;  // the analytic baseline (fit/lambert_ggx.h, default lobes)

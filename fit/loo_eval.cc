@@ -220,6 +220,24 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
   return row;
 }
 
+Eigen::MatrixXd SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
+                          const Observation& obs, const ClassSpectrum& cls, double lambda,
+                          std::map<int, BinRows>* bins_of_class, int class_index) {
+  WeightConstraint constraint;
+  constraint.kind = kind;
+  BinRows* bins = nullptr;
+  if (kind == WeightConstraint::Kind::kBins) {
+    auto it = bins_of_class->find(class_index);
+    if (it == bins_of_class->end())
+      it = bins_of_class->emplace(class_index, BinRows::EveryNth(in.constraint_sample, cls.members, 1)).first;
+    bins = &it->second;
+    constraint.bins = bins;
+  }
+  ClassSolution s = SolveClass(f, cls, obs, lambda, constraint);
+  if (bins && in.table_check) KeepNonNegativeOnTable(f, cls, obs, lambda, *in.table_check, bins, &s);
+  return s.weights;
+}
+
 void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& methods, LooRow* rows) {
   if (methods.empty()) return;
   Eigen::MatrixXd W(methods[0].w.rows(), 3 * static_cast<Eigen::Index>(methods.size()));
@@ -290,16 +308,10 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     so.lambda = opt.lambda;
     const std::array<const Eigen::MatrixXd*, 3> gcos = {&in.gram_cos, &in.gram_cos, &in.gram_cos};
     std::map<int, BinRows> constraint_bins;  // per chosen class of material m
-    const auto constraint_of = [&](int j, const ClassSpectrum& cls) {
-      WeightConstraint constraint;
-      constraint.kind = opt.constraint;
-      if (opt.constraint == WeightConstraint::Kind::kBins) {
-        auto it = constraint_bins.find(j);
-        if (it == constraint_bins.end())
-          it = constraint_bins.emplace(j, BinRows::EveryNth(in.constraint_sample, cls.members, 1)).first;
-        constraint.bins = &it->second;
-      }
-      return constraint;
+    // "auto": the chosen class under the default's constraint.
+    const auto solve_auto = [&](const std::array<ChannelFactor, 3>& f, const Observation& obs, int j,
+                                const ClassSpectrum& cls, double lambda) {
+      return SolveAuto(in, opt.constraint, f, obs, cls, lambda, &constraint_bins, j);
     };
     std::vector<Eigen::MatrixXd> auto_weights(S);  // the default fit from each scene's photo, for the joint rows
     for (int a = 0; a < S; ++a) {
@@ -322,8 +334,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
                        ResolveConditionBound(opt.choice, in.scenes[a].PhotoNoise(m)));
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
       const std::vector<FittedMethod> methods = {
-          {"auto", SolveClass(fa, picked, obs, choice.lambda, constraint_of(choice.chosen_class, picked)).weights,
-           choice.chosen_class},
+          {"auto", solve_auto(fa, obs, choice.chosen_class, picked, choice.lambda), choice.chosen_class},
           {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
           {"ours", ours.weights(), ours.chosen},
           {"paper", paper.weights(), paper.chosen},
@@ -362,8 +373,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const ClassSpectrum& picked = classes[choice.chosen_class];
       const std::string pair = in.scenes[a].probe + "+" + in.scenes[b].probe;
       const std::vector<FittedMethod> methods = {
-          {"auto-joint", SolveClass(js.f, picked, obs, choice.lambda, constraint_of(choice.chosen_class, picked)).weights,
-           choice.chosen_class},
+          {"auto-joint", solve_auto(js.f, obs, choice.chosen_class, picked, choice.lambda), choice.chosen_class},
           {"auto-one", auto_weights[a], -1},
           {"auto-one", auto_weights[b], -1}};
       const std::string probes[3] = {pair, in.scenes[a].probe + " (" + pair + ")",

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +30,7 @@
 #include "fit/lambda_choice.h"
 #include "fit/lambert_ggx.h"
 #include "fit/solver.h"
+#include "fit/table_check.h"
 #include "util/stats.h"
 
 namespace brdfshot {
@@ -80,6 +82,9 @@ struct LooInputs {
   // kBins (rows of the tables; disjoint from bin_sample, so the count
   // measures the bins between them).
   MatrixXfR constraint_sample;
+  // The whole table, checked after the sampled constraint: bins below zero
+  // join the constraint as in `fit` (fit/table_check.h). Null: the sample only.
+  const TableCheck* table_check = nullptr;
   // The Lambert + GGX baseline: one LobeScene per scene (parallel to
   // `scenes`, over the scored materials); empty: not run.
   LambertGgxLobes lobes;
@@ -137,6 +142,15 @@ struct FittedMethod {
 // "paper": `fixed_lambda`).
 LooRow MethodRow(const FittedMethod& method, const std::string& material, const std::string& probe,
                  const LambdaChoice& choice, double fixed_lambda);
+
+// The "auto" fit's weights (n × 3) of class `cls` at `lambda`, under
+// `kind`; for kBins, the class's constrained bins are kept per class index in
+// `bins_of_class` (the sampled bins of in.constraint_sample at first, and
+// every bin in.table_check adds), so the fits of one material under every
+// probe share them.
+Eigen::MatrixXd SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
+                          const Observation& obs, const ClassSpectrum& cls, double lambda,
+                          std::map<int, BinRows>* bins_of_class, int class_index);
 
 // Sets rows[i].negative_bins = NegativeBinShare(bins, methods[i].w) for every
 // method, reading the bins once for all of them.

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "fit/bin_constraints.h"
 #include "fit/fit_confidence.h"
@@ -113,11 +114,6 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       oracle_inverse[a][c] = PseudoInverse(sum);
     }
   }
-  // The constrained bins of each candidate class (the same members in every scene).
-  std::vector<BinRows> class_bins(auto_members.size());
-  if (opt.constraint == WeightConstraint::Kind::kBins)
-    for (size_t j = 0; j < auto_members.size(); ++j)
-      class_bins[j] = BinRows::EveryNth(bases.constraint_sample, auto_members[j], 1);
   LooResult r;
   r.seconds_cluster = sw.Seconds();
 
@@ -129,6 +125,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
   for (int t = 0; t < T; ++t) {
     if (t % opt.shard_count != opt.shard_index) continue;
     std::vector<Eigen::MatrixXd> auto_weights(S);  // the default fit from each scene's photo, for the joint rows
+    std::map<int, BinRows> constraint_bins;        // per chosen class, for this target's fits (SolveAuto)
     for (int a : fitted) {
       const auto& fa = bases.scenes[a].f;
       const TargetScene& ta = scenes[a];
@@ -155,11 +152,9 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         oracle.col(c) = oracle_inverse[a][c] * rhs;
       }
       const ClassSpectrum& picked = auto_classes[a][choice.chosen_class];
-      WeightConstraint constraint;
-      constraint.kind = opt.constraint;
-      if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &class_bins[choice.chosen_class];
       const std::vector<FittedMethod> methods = {
-          {"auto", SolveClass(fa, picked, obs, choice.lambda, constraint).weights, choice.chosen_class},
+          {"auto", SolveAuto(bases, opt.constraint, fa, obs, picked, choice.lambda, &constraint_bins, choice.chosen_class),
+           choice.chosen_class},
           {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
           {"ours", ours.weights(), ours.chosen},
           {"paper", paper.weights(), paper.chosen},
@@ -206,10 +201,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       const CvSystem joint_cv = FactorFolds(js.f, js.fold_gram, auto_members);
       const LambdaChoice choice = ChooseLambda(js.f, classes, &joint_cv, obs, held, js.pixels,
                                                ResolveConditionBound(opt.choice, js.photo_noise));
-      WeightConstraint constraint;
-      constraint.kind = opt.constraint;
-      if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &class_bins[choice.chosen_class];
-      const Eigen::MatrixXd w = SolveClass(js.f, classes[choice.chosen_class], obs, choice.lambda, constraint).weights;
+      const Eigen::MatrixXd w = SolveAuto(bases, opt.constraint, js.f, obs, classes[choice.chosen_class], choice.lambda,
+                                          &constraint_bins, choice.chosen_class);
       const std::string pair = bases.scenes[a].probe + "+" + bases.scenes[b].probe;
       const std::vector<FittedMethod> methods = {
           {"auto-joint", w, choice.chosen_class}, {"auto-one", auto_weights[a], -1}, {"auto-one", auto_weights[b], -1}};

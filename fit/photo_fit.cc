@@ -4,6 +4,7 @@
 
 #include "fit/bin_constraints.h"
 #include "fit/fit_confidence.h"
+#include "fit/table_check.h"
 #include "normals/observation.h"
 #include "util/atomic_file.h"
 #include "util/image_io.h"
@@ -86,14 +87,9 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   Stopwatch check;
   // The bins between the sampled ones: the whole table is checked, and any
   // that dip below zero join the constrained bins for another solve.
-  for (int pass = 0; opt.constraint == WeightConstraint::Kind::kBins && pass < 4; ++pass) {
-    const std::vector<int> negative =
-        NegativeBins(*tables, chosen.members, out.fit.weights()(chosen.members, Eigen::all));
-    out.negative_bins_added += static_cast<int>(negative.size());
-    if (negative.empty()) break;
-    bins.Append(*tables, chosen.members, negative);
-    out.fit.classes[out.fit.chosen] = SolveClass(f, chosen, obs, out.choice.lambda, constraint);
-  }
+  if (opt.constraint == WeightConstraint::Kind::kBins)
+    out.negative_bins_added = KeepNonNegativeOnTable(f, chosen, obs, out.choice.lambda, TableCheck(*tables), &bins,
+                                                     &out.fit.classes[out.fit.chosen]);
   out.seconds_table_check = check.Seconds();
   // The BRDF metric needs the tables' grid (every basis file has one; a
   // table without its grid, as in unit tests of the solve, gets none).

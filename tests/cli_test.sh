@@ -163,6 +163,13 @@ check eval-merge-missing 1 "shard 1 of 2 is missing" -- "$B" eval --merge "$T/ev
 check eval-joint 0 "Two photos of one material" -- "$B" eval $DB $EV --joint -o "$T/evj"
 grep -q ',auto-joint,' "$T/evj/eval.csv" && pass=$((pass+1)) || { echo "FAIL eval --joint wrote no joint rows"; fail=$((fail+1)); }
 check eval-joint-targets 0 "Two photos of one material" -- "$B" eval $DB $EV --joint --targets standin -o "$T/evj2"
+# The whole table checked after every default fit, as fit does: no sampled bin of any auto fit below zero.
+for kind in loo targets; do
+  extra=$([ $kind = targets ] && echo "--targets standin --joint" || echo "")
+  check eval-table-check-$kind 0 "(the whole table checked)" -- "$B" eval $DB $EV $extra --check-whole-table -o "$T/evt$kind"
+  awk -F, 'NR > 1 && $4 ~ /^auto(-joint)?$/ && $13 != 0 { bad = 1 } END { exit bad }' "$T/evt$kind/eval.csv" \
+    && pass=$((pass+1)) || { echo "FAIL eval --check-whole-table ($kind) left an auto fit with a negative bin"; fail=$((fail+1)); }
+done
 # merge-check on the same bracket: each inner frame predicted by ours and by OpenCV's merge.
 check merge-check 0 "| brdfshot | " -- "$B" merge-check "$T/fcap/photo"
 check merge-check-two 1 "needs a bracket of three frames or more" -- "$B" merge-check "$T/f1.png" "$T/f2.png" --times "$T/times.txt"
