@@ -41,7 +41,7 @@ struct EvalArgs {
         ("lambda-rule", po::value(&loo.choice.rule)->default_value(loo.choice.rule), "rule of the auto method: cv, residual, gcv or fixed")
         ("constraint", po::value(&constraint)->default_value(constraint), "what the auto method keeps non-negative: bins, weights or none")
         ("check-whole-table", po::bool_switch(&check_whole_table), "with --constraint bins: after every 31st bin, check the whole "
-         "table and constrain the bins below zero, as fit does (about 3x the run's time)")
+         "table and constrain the bins below zero, as fit does (several times the run's time: docs/benchmarks.md)")
         ("folds", po::value(&eo.folds)->default_value(eo.folds), "wedges for the auto method's cross-validation")
         ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
         ("joint", po::bool_switch(&loo.joint), "also fit every material from two photos at once (each probe's with the next "

@@ -43,9 +43,9 @@ class TableCheck {
   Eigen::Index blocks() const { return centre_.rows(); }
   int block_rows() const { return block_rows_; }
 
-  // 128 rows (two thirds of a φ_d sweep of the MERL grid): the bound clears
-  // 99.7–99.9 % of such blocks for fits of MERL's classes, and the summary
-  // is read in a few milliseconds (docs/benchmarks.md measures 32 to 256).
+  // 128 rows (two thirds of a φ_d sweep of the MERL grid): smaller blocks
+  // clear a little more but their summary takes longer to read, larger ones
+  // clear less (docs/benchmarks.md measures 32 to 256).
   static constexpr int kDefaultBlockRows = 128;
 
  private:
