@@ -52,22 +52,27 @@ Eigen::MatrixXd BinRows::Rows(const std::vector<int>& which) const {
   return out;
 }
 
+bool IsNegativeBin(const float* row, const std::vector<int>& members, const double* w3) {
+  double value[3] = {0, 0, 0}, magnitude[3] = {0, 0, 0};
+  for (size_t k = 0; k < members.size(); ++k) {
+    const double v = row[members[k]];
+    for (int c = 0; c < 3; ++c) {
+      const double term = v * w3[3 * k + static_cast<size_t>(c)];
+      value[c] += term, magnitude[c] += std::abs(term);
+    }
+  }
+  for (int c = 0; c < 3; ++c)
+    if (value[c] < -kNegativeBinTolerance * magnitude[c]) return true;
+  return false;
+}
+
 std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ) {
   BRDFSHOT_CHECK(wJ.rows() == static_cast<Eigen::Index>(members.size()) && wJ.cols() == 3);
+  const MatrixXdR w3 = wJ;  // row-major: member k's three channels side by side
   const Eigen::Index rows = tables.rows();
   std::vector<char> negative(rows, 0);
 #pragma omp parallel for schedule(static)
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    const float* row = tables.row(i).data();
-    for (int c = 0; c < 3; ++c) {
-      double value = 0, magnitude = 0;
-      for (size_t k = 0; k < members.size(); ++k) {
-        const double term = row[members[k]] * wJ(static_cast<Eigen::Index>(k), c);
-        value += term, magnitude += std::abs(term);
-      }
-      if (value < -kNegativeBinTolerance * magnitude) negative[i] = 1;
-    }
-  }
+  for (Eigen::Index i = 0; i < rows; ++i) negative[i] = IsNegativeBin(tables.row(i).data(), members, w3.data());
   std::vector<int> out;
   for (Eigen::Index i = 0; i < rows; ++i)
     if (negative[i]) out.push_back(static_cast<int>(i));

@@ -71,6 +71,11 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
 // constraint holds at zero sits.
 constexpr double kNegativeBinTolerance = 1e-5;
 
+// Whether the BRDF is negative in any channel at one table row: `row` the
+// row's values over every basis, `w3` the weights of `members` interleaved
+// by channel (w3[3k + c] for member k, channel c).
+bool IsNegativeBin(const float* row, const std::vector<int>& members, const double* w3);
+
 // The bins (rows of `tables`) where the BRDF of weights wJ (members × 3, over
 // columns `members`) is negative in any channel: the whole table, checked.
 std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ);

@@ -234,7 +234,7 @@ Eigen::MatrixXd SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, cons
     constraint.bins = bins;
   }
   ClassSolution s = SolveClass(f, cls, obs, lambda, constraint);
-  if (bins && in.table_check) KeepNonNegativeOnTable(f, cls, obs, lambda, *in.table_check, bins, &s);
+  if (bins && in.table_check) KeepNonNegativeOnTable(f, cls, obs, lambda, in.table_check->tables(), in.table_check, bins, &s);
   return s.weights;
 }
 

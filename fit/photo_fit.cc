@@ -88,7 +88,7 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   // The bins between the sampled ones: the whole table is checked, and any
   // that dip below zero join the constrained bins for another solve.
   if (opt.constraint == WeightConstraint::Kind::kBins)
-    out.negative_bins_added = KeepNonNegativeOnTable(f, chosen, obs, out.choice.lambda, TableCheck(*tables), &bins,
+    out.negative_bins_added = KeepNonNegativeOnTable(f, chosen, obs, out.choice.lambda, *tables, nullptr, &bins,
                                                      &out.fit.classes[out.fit.chosen]);
   out.seconds_table_check = check.Seconds();
   // The BRDF metric needs the tables' grid (every basis file has one; a

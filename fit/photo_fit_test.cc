@@ -128,6 +128,7 @@ TEST(FitPhoto, BinConstraintKeepsTheWholeTableNonNegative) {
   ASSERT_EQ(b.fit.chosen, 1);
   EXPECT_FALSE(NegativeBins(s.tables, members, a.fit.weights().bottomRows(6)).empty());
   EXPECT_TRUE(NegativeBins(s.tables, members, b.fit.weights().bottomRows(6)).empty());
+  EXPECT_GT(b.negative_bins_added, 0) << "the sampled bins alone must miss some, so the whole-table check had work";
   EXPECT_EQ(b.fit.classes[1].path, "nonneg-bins");
   EXPECT_GT(b.relative_residual, a.relative_residual);
   EXPECT_THROW(FitPhoto(s.basis, s.model, y, bins, nullptr), Error) << "the constraint needs the tables";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "util/check.h"
 
@@ -56,12 +57,9 @@ std::vector<int> TableCheck::NegativeBins(const std::vector<int>& members, const
   BRDFSHOT_CHECK(wJ.rows() == k && wJ.cols() == 3, "TableCheck: weights are members × 3");
   for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables_.cols(), "TableCheck: member out of range");
   const Eigen::Index rows = tables_.rows(), blocks = centre_.rows();
-  // Weights and their magnitudes interleaved per member, read together with
-  // the member's centre and spread.
-  std::vector<double> w(static_cast<size_t>(3 * k)), aw(static_cast<size_t>(3 * k));
-  for (Eigen::Index j = 0; j < k; ++j)
-    for (int c = 0; c < 3; ++c)
-      w[static_cast<size_t>(3 * j + c)] = wJ(j, c), aw[static_cast<size_t>(3 * j + c)] = std::abs(wJ(j, c));
+  // Each member's three channels side by side, read with its centre and spread.
+  const MatrixXdR w3 = wJ;
+  const Eigen::ArrayXXd aw3 = w3.array().abs();
   std::vector<char> negative(static_cast<size_t>(rows), 0);
   long cleared = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : cleared)
@@ -71,27 +69,15 @@ std::vector<int> TableCheck::NegativeBins(const std::vector<int>& members, const
     double bound[3] = {0, 0, 0};
     for (Eigen::Index j = 0; j < k; ++j) {
       const double m = centre[members[static_cast<size_t>(j)]], d = spread[members[static_cast<size_t>(j)]];
-      for (int c = 0; c < 3; ++c)
-        bound[c] += w[static_cast<size_t>(3 * j + c)] * m - aw[static_cast<size_t>(3 * j + c)] * d;
+      for (int c = 0; c < 3; ++c) bound[c] += w3(j, c) * m - aw3(j, c) * d;
     }
     if (bound[0] >= 0 && bound[1] >= 0 && bound[2] >= 0) {
       ++cleared;
       continue;
     }
     const Eigen::Index r0 = b * block_rows_, r1 = std::min(rows, r0 + block_rows_);
-    for (Eigen::Index r = r0; r < r1; ++r) {
-      const float* row = tables_.row(r).data();
-      double value[3] = {0, 0, 0}, magnitude[3] = {0, 0, 0};
-      for (Eigen::Index j = 0; j < k; ++j) {
-        const double v = row[members[static_cast<size_t>(j)]];
-        for (int c = 0; c < 3; ++c) {
-          const double term = v * w[static_cast<size_t>(3 * j + c)];
-          value[c] += term, magnitude[c] += std::abs(term);
-        }
-      }
-      for (int c = 0; c < 3; ++c)
-        if (value[c] < -kNegativeBinTolerance * magnitude[c]) negative[static_cast<size_t>(r)] = 1;
-    }
+    for (Eigen::Index r = r0; r < r1; ++r)
+      negative[static_cast<size_t>(r)] = IsNegativeBin(tables_.row(r).data(), members, w3.data());
   }
   if (cleared_share) *cleared_share = blocks ? static_cast<double>(cleared) / static_cast<double>(blocks) : 1.0;
   std::vector<int> out;
@@ -101,25 +87,24 @@ std::vector<int> TableCheck::NegativeBins(const std::vector<int>& members, const
 }
 
 int KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
-                           double lambda, const TableCheck& check, BinRows* bins, ClassSolution* s, int max_passes,
-                           bool* complete) {
+                           double lambda, const MatrixXfR& tables, const TableCheck* check, BinRows* bins,
+                           ClassSolution* s, int max_passes) {
   BRDFSHOT_CHECK(bins && s, "KeepNonNegativeOnTable: no bins or solution");
+  BRDFSHOT_CHECK(!check || &check->tables() == &tables, "KeepNonNegativeOnTable: the check is of other tables");
   WeightConstraint constraint;
   constraint.kind = WeightConstraint::Kind::kBins;
   constraint.bins = bins;
+  std::unique_ptr<TableCheck> own;  // built at the second pass, when none is given
   int added = 0;
-  bool none_left = false;
   for (int pass = 0; pass < max_passes; ++pass) {
-    const std::vector<int> negative = check.NegativeBins(cls.members, s->weights(cls.members, Eigen::all));
-    if (negative.empty()) {
-      none_left = true;
-      break;
-    }
+    const Eigen::MatrixXd wJ = s->weights(cls.members, Eigen::all);
+    if (!check && pass > 0) own = std::make_unique<TableCheck>(tables), check = own.get();
+    const std::vector<int> negative = check ? check->NegativeBins(cls.members, wJ) : NegativeBins(tables, cls.members, wJ);
+    if (negative.empty()) break;
     added += static_cast<int>(negative.size());
-    bins->Append(check.tables(), cls.members, negative);
+    bins->Append(tables, cls.members, negative);
     *s = SolveClass(f, cls, obs, lambda, constraint);
   }
-  if (complete) *complete = none_left;
   return added;
 }
 

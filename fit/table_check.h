@@ -56,12 +56,15 @@ class TableCheck {
 };
 
 // `s`: class `cls` solved at `lambda` under the constraint of `bins` (its
-// sampled rows, SolveClass with WeightConstraint::Kind::kBins). The whole
-// table is checked: bins found below zero join `bins` and the class is
-// solved again, up to `max_passes` checks. Returns the number of bins added;
-// `complete` (optional): whether the last check found none.
+// sampled rows, SolveClass with WeightConstraint::Kind::kBins). The whole of
+// `tables` is checked: bins found below zero join `bins` and the class is
+// solved again, up to `max_passes` checks. `check`: a TableCheck of
+// `tables`, where the caller checks many fits; without one the first pass
+// reads every bin (cheaper than building a summary, and most fits need no
+// second pass) and a summary is built only for a second. Returns the number
+// of bins added.
 int KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
-                           double lambda, const TableCheck& check, BinRows* bins, ClassSolution* s,
-                           int max_passes = 4, bool* complete = nullptr);
+                           double lambda, const MatrixXfR& tables, const TableCheck* check, BinRows* bins,
+                           ClassSolution* s, int max_passes = 4);
 
 }  // namespace brdfshot
