@@ -43,7 +43,6 @@ struct EvalArgs {
         ("check-whole-table", po::bool_switch(&check_whole_table), "with --constraint bins: after every 31st bin, check the whole "
          "table and constrain the bins below zero, as fit does (several times the run's time: docs/benchmarks.md)")
         ("folds", po::value(&eo.folds)->default_value(eo.folds), "wedges for the auto method's cross-validation")
-        ("all-bases-candidate", po::bool_switch(&loo.choice.all_bases_candidate), "auto may also pick every basis as one class")
         ("joint", po::bool_switch(&loo.joint), "also fit every material from two photos at once (each probe's with the next "
          "probe's) and score it against each photo alone, under the probes neither was taken under")
         ("lambda-grid", po::value(&grid), "comma-separated λ values the auto method chooses among (default: 0 … 10)")

@@ -101,7 +101,13 @@ void AddConditionBoundOptions(po::options_description& d, LambdaChoiceOptions* c
        "with --max-condition 0: the bound is (m/ε)², ε the photo's pixel noise relative to its RMS: a direction of "
        "the weights is trusted down to an amplitude of ε/m")
       ("min-condition", po::value(&choice->noise_bound.min_bound)->default_value(choice->noise_bound.min_bound),
-       "with --max-condition 0: the bound is never below this");
+       "with --max-condition 0: the bound is never below this")
+      ("max-noise-bound", po::value(&choice->noise_bound.max_bound)->default_value(choice->noise_bound.max_bound),
+       "with --max-condition 0: the bound is never above this (a noise-free photo gets it)")
+      ("every-basis-candidate", po::value(&choice->all_bases_candidate)->default_value(choice->all_bases_candidate),
+       "1: besides the model's classes, every basis is one more candidate class of the λ choice; 0: the classes only")
+      ("sensitivity-penalty", po::value(&choice->sensitivity_penalty)->default_value(choice->sensitivity_penalty),
+       "a: the wedges' error of each candidate is multiplied by (1 + a × its prior sensitivity) (docs/method.md); 0: not");
   // clang-format on
 }
 
@@ -110,6 +116,10 @@ void CheckConditionBound(const LambdaChoiceOptions& choice) {
     throw Error("--max-condition must be 0 (from the photo's noise) or at least 1");
   if (!(choice.noise_bound.margin > 0 && std::isfinite(choice.noise_bound.margin)))
     throw Error("--noise-margin must be positive");
+  if (!(choice.sensitivity_penalty >= 0 && std::isfinite(choice.sensitivity_penalty)))
+    throw Error("--sensitivity-penalty must be finite and ≥ 0");
+  if (!(choice.noise_bound.max_bound >= 1 && std::isfinite(choice.noise_bound.max_bound)))
+    throw Error("--max-noise-bound must be finite and at least 1");
   if (!(choice.noise_bound.min_bound >= 1 && choice.noise_bound.min_bound <= choice.noise_bound.max_bound)) {
     std::ostringstream m;
     m << "--min-condition must lie in [1, " << choice.noise_bound.max_bound << "]";

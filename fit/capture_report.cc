@@ -138,8 +138,12 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
                      "to the prior)"
                : std::string())
        << (f.lambda_rule != "fixed" && f.condition_bound > 0 && f.relative_noise >= 0
-               ? "\n- the photo's pixel noise " + Sci(f.relative_noise) + " of its RMS: λ searched within the condition bound " +
-                     Sci(f.condition_bound) + " (a noisier photo is trusted less far)"
+               ? "\n- the photo's pixel noise " + Sci(f.relative_noise) + " of its RMS" +
+                     (f.bound_noise >= 0 && f.bound_noise < f.relative_noise
+                          ? " (the fit of the largest candidate class leaves " + Sci(f.bound_noise) + ": the noise is at most that)"
+                          : std::string()) +
+                     ": λ searched within the condition bound " + Sci(f.condition_bound) +
+                     " (a noisier photo is trusted less far)"
                : std::string())
        << "\n- chosen class **" << f.chosen_class
        << "**, relative residual " << f.relative_residual << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary")

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "fit/merl_grid.h"
 #include "fit/solver.h"
@@ -25,6 +26,15 @@ namespace brdfshot {
 // gram_cos(J, J) or SampledCosineGram). 0 for a BRDF of zero norm.
 double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double lambda,
                         const Eigen::MatrixXd& metric);
+
+// PriorSensitivity at every λ of `lambdas`, sharing the projection of the
+// photo onto the class's eigenvectors (about a third of each value's cost).
+std::vector<double> PriorSensitivities(const ClassSpectrum& cls, const Observation& obs,
+                                       const std::vector<double>& lambdas, const Eigen::MatrixXd& metric);
+
+// Per class, the BRDF metric over its members: gram(J, J) of a metric over
+// every basis (e.g. the database's gram_cos, or SampledCosineGram of all).
+std::vector<Eigen::MatrixXd> ClassMetrics(const Eigen::MatrixXd& gram, const std::vector<std::vector<int>>& members);
 
 // Σ over every `stride`-th bin of cos²-weight × b_J b_Jᵀ (CosineWeights of
 // `grid`): the cosine-weighted BRDF Gram matrix of the bases `members`

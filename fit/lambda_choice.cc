@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fit/fit_confidence.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -213,7 +214,8 @@ std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int
 
 LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
-                          size_t pixels, const LambdaChoiceOptions& opt) {
+                          size_t pixels, const LambdaChoiceOptions& opt,
+                          const std::vector<Eigen::MatrixXd>* metrics) {
   LambdaChoice out;
   out.rule = opt.rule;
   out.condition_bound = opt.max_condition;
@@ -295,10 +297,34 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     for (size_t l = 0; l < opt.grid.size(); ++l)
       if (!within[j][l]) out.score[j][l] = inf;
   double best = inf;
-  for (size_t j = 0; j < classes.size(); ++j)
-    for (size_t l = 0; l < opt.grid.size(); ++l)
-      if (out.score[j][l] < best)
-        best = out.score[j][l], out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
+  if (opt.rule == "cv" && opt.sensitivity_penalty > 0 && metrics) {
+    BRDFSHOT_CHECK(metrics->size() == classes.size(), "one BRDF metric per class");
+    // Candidates in order of held-out error: the factor (1 + a s)² is at least
+    // 1, so once a candidate's error alone is no better than the best
+    // penalised score, no later one can win.
+    std::vector<std::pair<double, std::pair<size_t, size_t>>> order;
+    for (size_t j = 0; j < classes.size(); ++j)
+      for (size_t l = 0; l < opt.grid.size(); ++l)
+        if (out.score[j][l] < inf) order.push_back({out.score[j][l], {j, l}});
+    std::sort(order.begin(), order.end());
+    out.sensitivity.assign(classes.size(), std::vector<double>(opt.grid.size(), std::nan("")));
+    double best_penalised = inf;
+    for (const auto& [score, at] : order) {
+      if (score >= best_penalised) break;
+      const auto [j, l] = at;
+      const double s = PriorSensitivities(classes[j], obs, {opt.grid[l]}, (*metrics)[j])[0];
+      out.sensitivity[j][l] = s;
+      const double factor = 1 + opt.sensitivity_penalty * s;
+      const double penalised = score * factor * factor;
+      if (penalised < best_penalised)
+        best_penalised = penalised, best = score, out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
+    }
+  } else {
+    for (size_t j = 0; j < classes.size(); ++j)
+      for (size_t l = 0; l < opt.grid.size(); ++l)
+        if (out.score[j][l] < best)
+          best = out.score[j][l], out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
+  }
   if (out.chosen_class < 0) {
     // No λ of the grid keeps any class within the condition bound — a
     // channel of the photo that is black (λ_j = λ‖y_c‖²/c_j is then 0 at
@@ -338,6 +364,40 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   }
   out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
   return out;
+}
+
+double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t pixels,
+                        const std::vector<double>& grid, double max_condition) {
+  const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
+  const double n = static_cast<double>(pixels);
+  if (cls.members.empty() || !cls.has_vectors() || !(total > 0) || pixels == 0) return -1;
+  std::vector<double> sorted = grid;
+  std::sort(sorted.begin(), sorted.end());
+  const double cj = static_cast<double>(cls.members.size());
+  for (double lambda : sorted) {
+    bool within = true;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::VectorXd& e = cls.e[c];
+      const double lj = lambda * obs.norm2[c] / cj;
+      if (!((e[e.size() - 1] + lj) <= max_condition * (e[0] + lj))) within = false;
+    }
+    if (!within) continue;
+    const auto curve = ResidualCurve(cls, obs, {lambda});
+    double rss = 0, free = 0;
+    for (const ChannelResidual& r : curve[0]) rss += r.rss, free += std::max(1.0, n - r.dof);
+    return std::sqrt(rss / free) / std::sqrt(total / (3 * n));
+  }
+  return -1;
+}
+
+double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs,
+                  size_t pixels, const LambdaChoiceOptions& opt) {
+  if (!(pixel_noise > 0) || opt.max_condition > 0 || classes.empty()) return pixel_noise;
+  const ClassSpectrum* largest = &classes[0];
+  for (const ClassSpectrum& c : classes)
+    if (c.members.size() > largest->members.size()) largest = &c;
+  const double fit_noise = FitResidualNoise(*largest, obs, pixels, opt.grid, opt.noise_bound.max_bound);
+  return fit_noise >= 0 ? std::min(pixel_noise, fit_noise) : pixel_noise;
 }
 
 LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double relative_noise) {

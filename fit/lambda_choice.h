@@ -79,7 +79,15 @@ struct LambdaChoiceOptions {
   std::string rule = "cv";  // cv | gcv | fixed (docs/method.md, "Choosing λ per capture")
   // Also offer every basis as one more candidate "class" (prior 1/n): the
   // criterion then decides whether the class restriction helps this photo.
-  bool all_bases_candidate = false;
+  bool all_bases_candidate = true;
+  // Rule cv with the BRDF metrics given: each candidate's held-out error is
+  // multiplied by (1 + a·s), s its prior sensitivity (fit_confidence.h) and
+  // a this weight (0: no penalty). The wedges
+  // share the photo's lighting, so a fit that swings along directions the
+  // lighting hardly excites scores as well as one that does not; the
+  // sensitivity sees how much of the BRDF the prior, not the photo, decides,
+  // which is what another lighting shows (docs/method.md).
+  double sensitivity_penalty = 1;
   double fixed = 0.5;  // the weight for rule "fixed"
   std::vector<double> grid = {0, 1e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0};
   // Effective pixel count for GCV, as a fraction of the pixels (1: every pixel independent).
@@ -112,12 +120,32 @@ struct LambdaChoice {
   // λ was taken instead of the criterion's pick.
   bool beyond_condition_bound = false;
   double condition_bound = 0;  // the bound the search ran under
+  // sensitivity[j][l]: the prior sensitivity of class j at grid[l] where the
+  // penalty needed it (NaN elsewhere); empty without the penalty.
+  std::vector<std::vector<double>> sensitivity;
 };
 
 // `opt` with max_condition set for a photo whose relative pixel noise is
 // `relative_noise` (RelativePixelNoise) when it is 0 (follow the noise);
 // unchanged when it is fixed.
 LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double relative_noise);
+
+// An upper bound of the photo's noise from a fit: √(Σ_c RSS_c / Σ_c (n − dof_c))
+// relative to the photo's RMS √(Σ_c ‖y_c‖² / 3n), for class `cls` at the least
+// λ of `grid` that keeps it within `max_condition` (n = `pixels`). Pixel noise
+// cannot exceed what a fit leaves, whatever the shading; −1 when no λ of the
+// grid is within the bound or the photo is black.
+double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t pixels,
+                        const std::vector<double>& grid, double max_condition);
+
+// The noise the condition bound follows: the photo's pixel noise
+// (RelativePixelNoise), or what the fit of the largest candidate class leaves
+// where that is less. Immerkær's estimator reads a shading's own fine detail
+// as noise (a glossy sphere reflects the probe's edges), which would hold a
+// photo that the bases explain to far below it at the tightest bound. An
+// unknown pixel noise (kUnknownNoise) stays unknown: the cautious bound.
+double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs,
+                  size_t pixels, const LambdaChoiceOptions& opt);
 
 // Scores every class at every λ of the grid for `obs` and picks the best. With
 // `cv` (and the observation's per-fold parts `held`) the predicted error is the
@@ -129,8 +157,13 @@ LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double
 std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int>>& classes,
                                                const std::vector<int>& all, const LambdaChoiceOptions& opt);
 
+// `metrics`: per class, the BRDF metric over its members (PriorSensitivity's);
+// with rule cv and opt.sensitivity_penalty they turn the penalty on. Only
+// candidates whose held-out error alone beats the best penalised score so far
+// need their sensitivity (the factor is at least 1), so few are computed.
 LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
-                          size_t pixels, const LambdaChoiceOptions& opt);
+                          size_t pixels, const LambdaChoiceOptions& opt,
+                          const std::vector<Eigen::MatrixXd>* metrics = nullptr);
 
 }  // namespace brdfshot

@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 
+#include "fit/fit_confidence.h"
 #include "fit/photo_fit.h"
 #include "util/check.h"
 
@@ -263,6 +264,97 @@ TEST(LambdaChoice, NoLambdaWithinTheBoundFallsBackToTheLargest) {
   EXPECT_TRUE(std::isfinite(ch.predicted_error));
 }
 
+// The penalised pick against a brute force over every candidate: the least
+// held-out error times (1 + a·s)², s each candidate's prior sensitivity
+// (PriorSensitivity, tested against closed forms in fit_confidence_test.cc).
+// The search skips candidates whose error alone cannot win; it must still
+// land where the brute force does, for a noisy photo where a weak and a
+// strong prior compete.
+TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
+  const Scene s = MakeScene(10, 11);
+  const int K = 4;
+  const std::vector<int> fold = WedgeFolds(s.g, K);
+  std::mt19937 rng(12);
+  std::normal_distribution<double> noise(0, 0.03);
+  Eigen::MatrixXd w = Eigen::MatrixXd::Constant(10, 3, 0.1);
+  w(2, 0) = 0.5, w(7, 2) = 0.3;
+  Eigen::MatrixXd y = Render(s, w);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4}, {5, 6, 7, 8, 9}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}};
+  const auto f = FactorBasisImages(s.Y);
+  const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
+  const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, K), members);
+  const Observation obs = MakeObservation(f, s.Y, y);
+  const std::vector<Observation> held = FoldObservations(s.Y, y, fold, K);
+  std::vector<Eigen::MatrixXd> metrics;
+  for (const auto& J : members) metrics.push_back(f[0].gram(J, J));
+  for (double a : {0.0, 1.0, 20.0}) {
+    SCOPED_TRACE(a);
+    LambdaChoiceOptions opt;
+    opt.max_condition = 1e9;
+    opt.sensitivity_penalty = a;
+    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), opt, &metrics);
+    double best = std::numeric_limits<double>::infinity();
+    int best_j = -1;
+    double best_l = -1;
+    for (size_t j = 0; j < members.size(); ++j)
+      for (size_t l = 0; l < opt.grid.size(); ++l) {
+        if (!std::isfinite(ch.score[j][l])) continue;
+        const double factor = 1 + a * PriorSensitivity(classes[j], obs, opt.grid[l], metrics[j]);
+        const double penalised = ch.score[j][l] * factor * factor;
+        if (penalised < best) best = penalised, best_j = static_cast<int>(j), best_l = opt.grid[l];
+      }
+    EXPECT_EQ(ch.chosen_class, best_j);
+    EXPECT_EQ(ch.lambda, best_l);
+  }
+  // A strong penalty moves the pick to a more regularised or smaller fit
+  // than the held-out error alone would take.
+  LambdaChoiceOptions none, strong;
+  none.max_condition = strong.max_condition = 1e9;
+  none.sensitivity_penalty = 0, strong.sensitivity_penalty = 20;
+  const LambdaChoice plain = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), none, &metrics);
+  const LambdaChoice penalised = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), strong, &metrics);
+  EXPECT_TRUE(plain.sensitivity.empty()) << "no penalty, no sensitivities";
+  EXPECT_TRUE(penalised.chosen_class != plain.chosen_class || penalised.lambda > plain.lambda);
+}
+
+// The noise a fit leaves, against a dense least-squares fit (QR) of the
+// pixels: √(Σ_c RSS_c / Σ_c (n − p)) over the photo's RMS, and that is the
+// added white noise's level.
+TEST(FitResidualNoise, IsTheResidualOfTheLeastSquaresFitPerFreePixel) {
+  const Scene s = MakeScene(4, 13);  // four random quadratics: full column rank
+  const double sigma = 0.01;
+  std::mt19937 rng(14);
+  std::normal_distribution<double> noise(0, sigma);
+  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(4, 3, 0.25));
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  const auto f = FactorBasisImages(s.Y);
+  const std::vector<ClassSpectrum> cls = FactorClasses(f, {{0, 1, 2, 3}});
+  const Observation obs = MakeObservation(f, s.Y, y);
+  const double n = static_cast<double>(s.g.size());
+  double rss = 0;
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::MatrixXd A = s.Y[c].cast<double>();
+    const Eigen::VectorXd x = A.colPivHouseholderQr().solve(y.col(c));
+    rss += (A * x - y.col(c)).squaredNorm();
+  }
+  const double rms = std::sqrt(y.squaredNorm() / (3 * n));
+  const double want = std::sqrt(rss / (3 * (n - 4))) / rms;
+  const double got = FitResidualNoise(cls[0], obs, s.g.size(), {0, 1e-3, 1}, 1e300);
+  EXPECT_NEAR(got, want, 1e-6 * want);
+  EXPECT_NEAR(got * rms, sigma, 0.1 * sigma);
+  // The least λ within the bound: with a bound no λ meets, none.
+  EXPECT_EQ(FitResidualNoise(cls[0], obs, s.g.size(), {0}, 1.0), -1);
+  // The bound follows the lesser of the pixel noise and the fit's.
+  LambdaChoiceOptions opt;
+  opt.noise_bound.max_bound = 1e300;
+  EXPECT_NEAR(BoundNoise(1.0, cls, obs, s.g.size(), opt), got, 1e-12);
+  EXPECT_EQ(BoundNoise(1e-9, cls, obs, s.g.size(), opt), 1e-9);
+  EXPECT_EQ(BoundNoise(kUnknownNoise, cls, obs, s.g.size(), opt), kUnknownNoise) << "unknown stays cautious";
+  opt.max_condition = 1e6;
+  EXPECT_EQ(BoundNoise(1.0, cls, obs, s.g.size(), opt), 1.0) << "a fixed bound does not follow the noise";
+}
+
 TEST(FitRecord, RoundTripsThroughJson) {
   FitRecord r;
   r.database = "MERL (NBRDF approximation)";
@@ -287,12 +379,14 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.prior_sensitivity = 0.125;
   r.relative_noise = 0.0025;
   r.condition_bound = 1.44e6;
+  r.bound_noise = 0.0004;
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
   EXPECT_TRUE(back.lambda_beyond_condition_bound);
   EXPECT_EQ(back.prior_sensitivity, 0.125);
   EXPECT_EQ(back.relative_noise, 0.0025);
   EXPECT_EQ(back.condition_bound, 1.44e6);
+  EXPECT_EQ(back.bound_noise, 0.0004);
   // A fit made without the tables has no sensitivity: none is written, and a
   // file without one reads as not measured.
   nlohmann::json unmeasured = r.ToJson();

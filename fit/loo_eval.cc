@@ -299,6 +299,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     const Eigen::MatrixXd ck = in.class_gram.size() ? Eigen::MatrixXd(in.class_gram(keep, keep)) : gk;
     const auto ours_members = MembersInFull(BuildClassModel(ck, ours_opt), keep);
     const auto auto_members = CandidateMembers(ours_members, keep, opt.choice);
+    const std::vector<Eigen::MatrixXd> auto_metrics = ClassMetrics(in.gram_cos, auto_members);
     const auto paper_members = MembersInFull(BuildClassModel(gk, paper_opt), keep);
     const Eigen::MatrixXd oracle = OracleWeights(in.gram_cos, keep, m);
     t_cluster[m] = sw.Seconds();
@@ -331,7 +332,9 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
           auto_members.size() == ours_members.size() ? ours_classes : FactorClasses(fa, auto_members);
       const LambdaChoice choice =
           ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
-                       ResolveConditionBound(opt.choice, in.scenes[a].PhotoNoise(m)));
+                       ResolveConditionBound(opt.choice, BoundNoise(in.scenes[a].PhotoNoise(m), auto_classes, obs,
+                                                                    in.scenes[a].pixels, opt.choice)),
+                       &auto_metrics);
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
       const std::vector<FittedMethod> methods = {
           {"auto", solve_auto(fa, obs, choice.chosen_class, picked, choice.lambda), choice.chosen_class},
@@ -368,8 +371,10 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const Observation obs = BasisObservation(js.f, {3 * m, 3 * m + 1, 3 * m + 2});
       const std::vector<ClassSpectrum> classes = FactorClasses(js.f, auto_members);
       const CvSystem cv = FactorFolds(js.f, js.fold_gram, auto_members);
-      const LambdaChoice choice = ChooseLambda(js.f, classes, &cv, obs, HeldObservations(js.fold_gram, m), js.pixels,
-                                               ResolveConditionBound(opt.choice, js.photo_noise));
+      const LambdaChoice choice = ChooseLambda(
+          js.f, classes, &cv, obs, HeldObservations(js.fold_gram, m), js.pixels,
+          ResolveConditionBound(opt.choice, BoundNoise(js.photo_noise, classes, obs, js.pixels, opt.choice)),
+          &auto_metrics);
       const ClassSpectrum& picked = classes[choice.chosen_class];
       const std::string pair = in.scenes[a].probe + "+" + in.scenes[b].probe;
       const std::vector<FittedMethod> methods = {

@@ -95,6 +95,10 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
   std::vector<int> all(n);
   for (int i = 0; i < n; ++i) all[i] = i;
   const auto auto_members = CandidateMembers(ours_members, all, opt.choice);
+  // The BRDF metric of the λ choice's sensitivity penalty; none without the database's.
+  const std::vector<Eigen::MatrixXd> auto_metrics =
+      bases.gram_cos.rows() == n ? ClassMetrics(bases.gram_cos, auto_members) : std::vector<Eigen::MatrixXd>{};
+  const std::vector<Eigen::MatrixXd>* metrics = auto_metrics.empty() ? nullptr : &auto_metrics;
   // Per scene: what does not depend on the target.
   std::vector<std::vector<ClassSpectrum>> ours_classes(S), paper_classes(S), auto_classes(S);
   std::vector<CvSystem> cv(S);
@@ -141,7 +145,9 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         for (int c = 0; c < 3; ++c) held[k].z[c] = ta.fold_cross[k][c].col(t), held[k].norm2[c] = ta.fold_self[k][c][t];
       const LambdaChoice choice =
           ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels,
-                       ResolveConditionBound(opt.choice, bases.scenes[a].PhotoNoise(t)));
+                       ResolveConditionBound(opt.choice, BoundNoise(bases.scenes[a].PhotoNoise(t), auto_classes[a], obs,
+                                                                    bases.scenes[a].pixels, opt.choice)),
+                       metrics);
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes[a], obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, paper_classes[a], obs, so);
       Eigen::MatrixXd oracle(n, 3);
@@ -199,8 +205,9 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       }
       const std::vector<ClassSpectrum> classes = FactorClasses(js.f, auto_members);
       const CvSystem joint_cv = FactorFolds(js.f, js.fold_gram, auto_members);
-      const LambdaChoice choice = ChooseLambda(js.f, classes, &joint_cv, obs, held, js.pixels,
-                                               ResolveConditionBound(opt.choice, js.photo_noise));
+      const LambdaChoice choice = ChooseLambda(
+          js.f, classes, &joint_cv, obs, held, js.pixels,
+          ResolveConditionBound(opt.choice, BoundNoise(js.photo_noise, classes, obs, js.pixels, opt.choice)), metrics);
       const Eigen::MatrixXd w = SolveAuto(bases, opt.constraint, js.f, obs, classes[choice.chosen_class], choice.lambda,
                                           &constraint_bins, choice.chosen_class);
       const std::string pair = bases.scenes[a].probe + "+" + bases.scenes[b].probe;

@@ -43,37 +43,50 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   PhotoFit out;
   Stopwatch sw;
   std::array<ChannelFactor, 3> f = FactorBasisImages(basis.Y);
-  std::vector<std::vector<int>> members;
-  for (int j = 0; j < model.classes(); ++j) members.push_back(model.Members(j));
+  std::vector<std::vector<int>> model_members;
+  for (int j = 0; j < model.classes(); ++j) model_members.push_back(model.Members(j));
+  std::vector<int> every_basis(model.label.size());
+  for (size_t i = 0; i < every_basis.size(); ++i) every_basis[i] = static_cast<int>(i);
+  // The model's classes, then (by default) every basis as one more candidate.
+  const std::vector<std::vector<int>> members = CandidateMembers(model_members, every_basis, opt.lambda);
   const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
+  // The BRDF metric (every constraint_stride-th bin of the tables) of the
+  // prior sensitivity, for the λ choice's penalty and the fit's confidence;
+  // it needs the tables' grid (every basis file has one; a table without its
+  // grid, as in unit tests of the solve, gets none).
+  std::vector<Eigen::MatrixXd> metrics;
+  if (tables && basis.header.contains("grid") && basis.Grid().size() == static_cast<size_t>(tables->rows()))
+    metrics = ClassMetrics(SampledCosineGram(*tables, basis.Grid(), every_basis, std::max(1, opt.constraint_stride)),
+                           members);
   // The folds serve the choice (rule cv) and the predicted error (every rule).
   const int folds = std::max(2, opt.folds);
   const std::vector<int> fold_of_pixel = folds_given ? *folds_given : WedgeFolds(basis.geometry, folds);
   BRDFSHOT_CHECK(fold_of_pixel.size() == basis.geometry.size());
   const CvSystem cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
-  // Every class's constrained bins: they depend on the database, not the photo.
-  std::vector<BinRows> class_bins(classes.size());
-  if (opt.constraint == WeightConstraint::Kind::kBins) {
-    if (!tables) throw Error("the non-negative-bin constraint needs the database's tables");
-    for (size_t j = 0; j < classes.size(); ++j)
-      class_bins[j] = BinRows::EveryNth(*tables, classes[j].members, std::max(1, opt.constraint_stride));
-  }
+  if (opt.constraint == WeightConstraint::Kind::kBins && !tables)
+    throw Error("the non-negative-bin constraint needs the database's tables");
   out.seconds_factor = sw.Seconds();
 
   Stopwatch solve;
   const std::vector<Observation> held = FoldObservations(basis.Y, y, fold_of_pixel, folds);
   Observation obs = SumObservations(held);
   out.relative_noise = opt.relative_noise ? *opt.relative_noise : RelativePixelNoise(basis.geometry, y);
+  out.bound_noise = BoundNoise(out.relative_noise, classes, obs, basis.geometry.size(), opt.lambda);
   out.choice = ChooseLambda(f, classes, &cv_system, obs, held, basis.geometry.size(),
-                            ResolveConditionBound(opt.lambda, out.relative_noise));
+                            ResolveConditionBound(opt.lambda, out.bound_noise), metrics.empty() ? nullptr : &metrics);
   std::vector<double> lambda(classes.size(), out.choice.lambda);
   out.fit = SolveClasswise(f, classes, obs, lambda);
   // The chosen class by the rule, even where another class's data residual is lower.
   out.fit.chosen = out.choice.chosen_class;
   WeightConstraint constraint;
   constraint.kind = opt.constraint;
-  BinRows& bins = class_bins[out.fit.chosen];
-  if (opt.constraint == WeightConstraint::Kind::kBins) constraint.bins = &bins;
+  // The chosen class's sampled bins only: every candidate's together would
+  // hold the sample twice over (every basis is a candidate too).
+  BinRows bins;
+  if (opt.constraint == WeightConstraint::Kind::kBins) {
+    bins = BinRows::EveryNth(*tables, classes[out.fit.chosen].members, std::max(1, opt.constraint_stride));
+    constraint.bins = &bins;
+  }
   if (out.fit.classes[out.fit.chosen].path != "normal" && opt.constraint != WeightConstraint::Kind::kWeights) {
     // Too ill-conditioned for the normal equations (λ near 0): solve the chosen
     // class again through the QR of Y.
@@ -91,13 +104,8 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
     out.negative_bins_added = KeepNonNegativeOnTable(f, chosen, obs, out.choice.lambda, *tables, nullptr, &bins,
                                                      &out.fit.classes[out.fit.chosen]);
   out.seconds_table_check = check.Seconds();
-  // The BRDF metric needs the tables' grid (every basis file has one; a
-  // table without its grid, as in unit tests of the solve, gets none).
-  if (tables && basis.header.contains("grid") && basis.Grid().size() == static_cast<size_t>(tables->rows())) {
-    out.prior_sensitivity = PriorSensitivity(
-        chosen, obs, out.choice.lambda,
-        SampledCosineGram(*tables, basis.Grid(), chosen.members, std::max(1, opt.constraint_stride)));
-  }
+  if (!metrics.empty())
+    out.prior_sensitivity = PriorSensitivity(chosen, obs, out.choice.lambda, metrics[out.fit.chosen]);
   const Eigen::MatrixXd& w = out.fit.weights();
   out.reconstruction.resize(y.rows(), 3);
   for (int c = 0; c < 3; ++c) out.reconstruction.col(c) = basis.Y[c].cast<double>() * w.col(c);
@@ -126,6 +134,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.predicted_relit_error = f.choice.predicted_error;
   r.prior_sensitivity = f.prior_sensitivity;
   r.relative_noise = f.relative_noise;
+  r.bound_noise = f.bound_noise;
   r.condition_bound = f.choice.condition_bound;
   r.chosen_class = f.fit.chosen;
   r.relative_residual = f.relative_residual;
@@ -186,6 +195,7 @@ nlohmann::json FitRecord::ToJson() const {
       {"score_per_class", curve},
       {"beyond_condition_bound", lambda_beyond_condition_bound},
       {"relative_pixel_noise", relative_noise},
+      {"bound_noise", bound_noise},
       {"condition_bound", condition_bound},
       {"why", lambda_beyond_condition_bound
                   ? "no lambda of the grid kept any class within the condition bound: the grid's largest, the class "
@@ -236,6 +246,7 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     r.lambda_grid = j.at("lambda_choice").at("grid").get<std::vector<double>>();
     r.lambda_beyond_condition_bound = j.at("lambda_choice").value("beyond_condition_bound", false);
     r.relative_noise = j.at("lambda_choice").value("relative_pixel_noise", -1.0);  // absent: not recorded
+    r.bound_noise = j.at("lambda_choice").value("bound_noise", -1.0);
     r.condition_bound = j.at("lambda_choice").value("condition_bound", -1.0);
     for (const auto& row : j.at("lambda_choice").at("score_per_class")) {
       std::vector<double> v;

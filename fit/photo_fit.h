@@ -46,7 +46,10 @@ struct PhotoFit {
   // (fit/fit_confidence.h; the metric from every constraint_stride-th bin of
   // the tables); -1 when no tables (or none on the basis images' grid) were given.
   double prior_sensitivity = -1;
-  double relative_noise = 0;  // the photo's, as the condition bound used it (kUnknownNoise: not measurable)
+  double relative_noise = 0;  // the photo's pixel noise (kUnknownNoise: not measurable)
+  // What the condition bound followed: the pixel noise, or what the largest
+  // candidate's fit leaves where that is less (BoundNoise, lambda_choice.h).
+  double bound_noise = 0;
   // The analytic baseline fitted to the same pixels, when the basis images
   // hold its lobes (fit/lambert_ggx.h).
   std::optional<LambertGgxFit> lambert_ggx;
@@ -83,6 +86,7 @@ struct FitRecord {
   // The photo's relative pixel noise and the condition bound the λ search ran
   // under (lambda_choice.h, photo_noise.h); -1: not recorded.
   double relative_noise = -1, condition_bound = -1;
+  double bound_noise = -1;  // PhotoFit::bound_noise; -1: not recorded
   int chosen_class = -1;
   double relative_residual = 0;
   struct ClassRow {

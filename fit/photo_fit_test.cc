@@ -55,6 +55,7 @@ TEST(FitPhoto, ExactCombinationOfAClassIsFoundAndPredictedToRelightWell) {
     PhotoFitOptions opt;
     opt.lambda.rule = rule;
     opt.lambda.fixed = 1e-3;
+    opt.lambda.all_bases_candidate = false;  // the model's classes only: which one is the question
     const PhotoFit fit = FitPhoto(s.basis, s.model, y, opt, &s.tables);
     EXPECT_EQ(fit.fit.chosen, 1);
     EXPECT_EQ(fit.choice.chosen_class, 1);
@@ -63,6 +64,31 @@ TEST(FitPhoto, ExactCombinationOfAClassIsFoundAndPredictedToRelightWell) {
     EXPECT_LT((fit.reconstruction - y).norm(), 0.01 * y.norm());
     EXPECT_TRUE(fit.fit.weights().topRows(6).isZero()) << "weights outside the class stay zero";
   }
+}
+
+TEST(FitPhoto, AMaterialAcrossTheClassesIsFoundByTheEveryBasisCandidate) {
+  // A truth that mixes both classes: no class spans it, every basis does.
+  const Scene s = MakeScene();
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(12, 3);
+  for (int c = 0; c < 3; ++c) w.col(c) << 0.3, 0, 0.1, 0, 0, 0.2, 0, 0.25, 0, 0.1, 0, 0.05;
+  const Eigen::MatrixXd y = Render(s.basis, w);
+  Scene gridded = s;  // the tables' grid gives the BRDF metric, and with it the penalty
+  gridded.basis.header["grid"] = {4, 5, 20};
+  PhotoFitOptions classes_only;
+  classes_only.lambda.all_bases_candidate = false;
+  const PhotoFit every = FitPhoto(gridded.basis, s.model, y, PhotoFitOptions{}, &s.tables);
+  const PhotoFit classes = FitPhoto(gridded.basis, s.model, y, classes_only, &s.tables);
+  ASSERT_EQ(every.fit.classes.size(), 3u) << "the two classes, then every basis";
+  EXPECT_EQ(every.fit.chosen, 2);
+  EXPECT_EQ(every.fit.classes[2].members, 12);
+  EXPECT_LT(every.relative_residual, 0.01);
+  EXPECT_GT(classes.relative_residual, 10 * every.relative_residual);
+  EXPECT_LT(every.choice.predicted_error, classes.choice.predicted_error);
+  // The penalty looked at the pick: its sensitivity is the one fit.json reports.
+  size_t at = 0;
+  while (every.choice.grid[at] != every.choice.lambda) ++at;
+  ASSERT_EQ(every.choice.sensitivity.size(), 3u);
+  EXPECT_NEAR(every.choice.sensitivity[2][at], every.prior_sensitivity, 1e-12);
 }
 
 TEST(FitPhoto, NoiseRaisesTheChosenLambdaAndThePredictedError) {
@@ -98,8 +124,14 @@ TEST(FitPhoto, TheConditionBoundFollowsThePhotosNoiseUnlessFixed) {
   // The basis images carry a texture of their own, which the estimate reads
   // as the clean photo's noise; the added noise comes on top.
   EXPECT_GT(b.relative_noise, 1.5 * a.relative_noise);
+  // The clean photo is in the span: the fit of every basis leaves nothing, so
+  // the noise the bound follows is far below the texture's reading. The noisy
+  // one's pixel noise is all noise: the fit leaves about as much.
+  EXPECT_LT(a.bound_noise, 0.01 * a.relative_noise);
+  EXPECT_LE(b.bound_noise, b.relative_noise);
+  EXPECT_GT(b.bound_noise, 0.5 * b.relative_noise);
   for (const PhotoFit* f : {&a, &b})
-    EXPECT_DOUBLE_EQ(f->choice.condition_bound, ConditionBoundForNoise(f->relative_noise, opt.lambda.noise_bound));
+    EXPECT_DOUBLE_EQ(f->choice.condition_bound, ConditionBoundForNoise(f->bound_noise, opt.lambda.noise_bound));
   EXPECT_LT(b.choice.condition_bound, a.choice.condition_bound);
   // A fixed bound is taken as given, whatever the noise.
   PhotoFitOptions fixed;
@@ -119,6 +151,7 @@ TEST(FitPhoto, BinConstraintKeepsTheWholeTableNonNegative) {
   const std::vector<int> members = {6, 7, 8, 9, 10, 11};
   ASSERT_FALSE(NegativeBins(s.tables, members, w.bottomRows(6)).empty()) << "the truth must go negative";
   PhotoFitOptions free, bins;
+  free.lambda.all_bases_candidate = bins.lambda.all_bases_candidate = false;  // class 1 is the one to constrain
   free.constraint = WeightConstraint::Kind::kNone;
   bins.constraint = WeightConstraint::Kind::kBins;
   bins.constraint_stride = 7;  // most bins are not in the sample

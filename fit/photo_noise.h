@@ -46,7 +46,7 @@ struct NoiseBoundOptions {
   // them); no photo gets a tighter one. Above: beyond 1e10 float basis images
   // (24-bit mantissa, summed in double) carry too little to separate
   // directions.
-  double min_bound = 1e6, max_bound = 1e10;
+  double min_bound = 1e6, max_bound = 1e12;
 };
 
 // clamp((m/ε)², min_bound, max_bound); max_bound for ε = 0 (noise-free);

@@ -64,6 +64,16 @@ awk -v e="$err" 'BEGIN{exit !(e < 0.05)}' && pass=$((pass+1)) || { echo "FAIL re
 # The fit records how λ was chosen and what it predicts; bad λ options are refused, naming them.
 grep -q '"lambda_rule": "cv"' "$T/fit/fit.json" && grep -q '"predicted_relit_error"' "$T/fit/fit.json" && pass=$((pass+1)) \
   || { echo "FAIL fit.json lacks the λ choice"; fail=$((fail+1)); }
+# The candidates: the model's classes, then every basis; the noise the bound followed.
+python3 - "$T/fit/fit.json" "$T/c.json" <<'PY' && pass=$((pass+1)) || { echo "FAIL fit.json lacks the every-basis candidate or the bound's noise"; fail=$((fail+1)); }
+import json, sys
+f, c = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+n = len(f["bases"])
+assert f["classes"][-1]["members"] == n, f["classes"][-1]
+assert len(f["lambda_choice"]["score_per_class"]) == len(f["classes"])
+b, p = f["lambda_choice"]["bound_noise"], f["lambda_choice"]["relative_pixel_noise"]
+assert 0 <= b <= p, (b, p)
+PY
 check fit-fixed 0 "(fixed)" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda 0.5 --preview-probes "$PROBE" -o "$T/fitl"
 grep -q '"lambda": 0.5' "$T/fitl/fit.json" && pass=$((pass+1)) || { echo "FAIL --lambda 0.5 not recorded"; fail=$((fail+1)); }
 check fit-bad-rule 1 "unknown --lambda-rule 'best'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-rule best -o "$T/fitb1"
@@ -71,7 +81,9 @@ check fit-bad-grid 1 "bad --lambda-grid '0.1,x'" -- "$B" fit $DB --basis "$T/b.b
 check fit-bad-folds 1 "--folds must be at least 2" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --folds 1 -o "$T/fitb3"
 check fit-bad-condition 1 "--max-condition must be 0 (from the photo's noise) or at least 1" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --max-condition 0.5 -o "$T/fitb4"
 check fit-bad-margin 1 "--noise-margin must be positive" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --noise-margin 0 -o "$T/fitb5"
-check eval-bad-min-condition 1 "--min-condition must lie in [1, 1e+10]" -- "$B" eval $DB --min-condition 1e11 -o "$T/evalb"
+check eval-bad-min-condition 1 "--min-condition must lie in [1, 1e+12]" -- "$B" eval $DB --min-condition 1e13 -o "$T/evalb"
+check eval-bad-noise-bound 1 "--max-noise-bound must be finite and at least 1" -- "$B" eval $DB --max-noise-bound 0.5 -o "$T/evalb"
+check fit-bad-penalty 1 "--sensitivity-penalty must be finite and ≥ 0" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --sensitivity-penalty -1 -o "$T/fitb4"
 check fit-bad-constraint 1 "unknown --constraint 'positive'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --constraint positive -o "$T/fitb4"
 [ ! -e "$T/fitb1" ] && [ ! -e "$T/fitb2" ] && [ ! -e "$T/fitb3" ] && [ ! -e "$T/fitb4" ] && pass=$((pass+1)) || { echo "FAIL a refused fit left an output folder"; fail=$((fail+1)); }
 # The default keeps the BRDF non-negative and says so.
