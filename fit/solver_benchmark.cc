@@ -8,6 +8,7 @@
 #include <random>
 
 #include "fit/bin_constraints.h"
+#include "fit/fit_confidence.h"
 #include "fit/lambda_choice.h"
 #include "fit/solver.h"
 #include "normals/sphere_geometry.h"
@@ -64,19 +65,32 @@ const Problem& TheProblem() {
 
 // The photo-independent part of the default fit: 6 wedges, the Gram
 // factorisation, the class spectra and the wedges' systems.
+// The candidates are the four classes and every basis, as `fit`'s default;
+// the BRDF metric of the sensitivity penalty is a stand-in of the same size
+// (the basis images' Gram matrix: the penalty's cost does not depend on its values).
 struct ChoiceFactors {
   std::vector<int> fold;
   std::array<ChannelFactor, 3> f;
   std::vector<ClassSpectrum> classes;
   CvSystem cv;
+  std::vector<Eigen::MatrixXd> metrics;
 };
 ChoiceFactors FactorForChoice(const Problem& p) {
   ChoiceFactors x;
   x.fold = WedgeFolds(p.g, 6);
   x.f = FactorBasisImages(p.Y, false);
-  x.classes = FactorClasses(x.f, p.members);
-  x.cv = FactorFolds(x.f, FoldGrams(p.Y, x.fold, 6), p.members);
+  std::vector<int> all(p.Y[0].cols());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  const std::vector<std::vector<int>> candidates = CandidateMembers(p.members, all, LambdaChoiceOptions{});
+  x.classes = FactorClasses(x.f, candidates);
+  x.cv = FactorFolds(x.f, FoldGrams(p.Y, x.fold, 6), candidates);
+  x.metrics = ClassMetrics(x.f[0].gram, candidates);
   return x;
+}
+// The default's bound: the pixel noise, or what the largest candidate's fit leaves.
+LambdaChoiceOptions DefaultBound(const Problem& p, const ChoiceFactors& x, const Observation& obs) {
+  const LambdaChoiceOptions opt;
+  return ResolveConditionBound(opt, BoundNoise(RelativePixelNoise(p.g, p.y), x.classes, obs, p.g.size(), opt));
 }
 
 void BM_FactorGram(benchmark::State& state) {
@@ -96,12 +110,7 @@ BENCHMARK(BM_FactorGramAndClasses)->Unit(benchmark::kMillisecond)->UseRealTime()
 
 void BM_FactorWithFolds(benchmark::State& state) {  // everything `fit` factors by default
   const Problem& p = TheProblem();
-  const std::vector<int> fold = WedgeFolds(p.g, 6);
-  for (auto _ : state) {
-    const auto f = FactorBasisImages(p.Y, false);
-    benchmark::DoNotOptimize(FactorClasses(f, p.members));
-    benchmark::DoNotOptimize(FactorFolds(f, FoldGrams(p.Y, fold, 6), p.members));
-  }
+  for (auto _ : state) benchmark::DoNotOptimize(FactorForChoice(p));
 }
 BENCHMARK(BM_FactorWithFolds)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -123,12 +132,11 @@ BENCHMARK(BM_SolveFixedLambda)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: noise, bound, wedge pick
   const Problem& p = TheProblem();
   const ChoiceFactors x = FactorForChoice(p);
-  const auto& [fold, f, classes, cv] = x;
+  const auto& [fold, f, classes, cv, metrics] = x;
   for (auto _ : state) {
     const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
     const Observation obs = SumObservations(held);
-    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(),
-        ResolveConditionBound(LambdaChoiceOptions{}, RelativePixelNoise(p.g, p.y)));
+    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), DefaultBound(p, x, obs), &metrics);
     benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda));
   }
 }
@@ -171,13 +179,13 @@ BENCHMARK(BM_ChoicePartPhotoNoise)->Unit(benchmark::kMillisecond)->UseRealTime()
 void BM_ChoicePartScoreAndSolve(benchmark::State& state) {
   const Problem& p = TheProblem();
   const ChoiceFactors x = FactorForChoice(p);
-  const auto& [fold, f, classes, cv] = x;
+  const auto& [fold, f, classes, cv, metrics] = x;
   const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
   const Observation obs = SumObservations(held);
-  const LambdaChoiceOptions opt = ResolveConditionBound(LambdaChoiceOptions{}, RelativePixelNoise(p.g, p.y));
+  const LambdaChoiceOptions opt = DefaultBound(p, x, obs);
   LambdaChoice ch;
   for (auto _ : state) {
-    ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), opt);
+    ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), opt, &metrics);
     benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda));
   }
   state.counters["condition_bound"] = opt.max_condition;
@@ -191,7 +199,7 @@ BENCHMARK(BM_ChoicePartScoreAndSolve)->Unit(benchmark::kMillisecond)->UseRealTim
 void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
   const Problem& p = TheProblem();
   const ChoiceFactors x = FactorForChoice(p);
-  const auto& [fold, f, classes, cv] = x;
+  const auto& [fold, f, classes, cv, metrics] = x;
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(0, 1);
   const MatrixXfR tables = MatrixXfR::NullaryExpr(47000, 300, [&]() {
@@ -199,13 +207,12 @@ void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
     return v * v * v * v;
   });
   std::vector<BinRows> class_bins;
-  for (const auto& J : p.members) class_bins.push_back(BinRows::EveryNth(tables, J, 1));
+  for (const ClassSpectrum& c : classes) class_bins.push_back(BinRows::EveryNth(tables, c.members, 1));
   int negative_before = 0;
   for (auto _ : state) {
     const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
     const Observation obs = SumObservations(held);
-    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(),
-        ResolveConditionBound(LambdaChoiceOptions{}, RelativePixelNoise(p.g, p.y)));
+    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), DefaultBound(p, x, obs), &metrics);
     WeightConstraint constraint;
     constraint.kind = WeightConstraint::Kind::kBins;
     constraint.bins = &class_bins[ch.chosen_class];
