@@ -308,6 +308,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
         if (out.score[j][l] < inf) order.push_back({out.score[j][l], {j, l}});
     std::sort(order.begin(), order.end());
     out.sensitivity.assign(classes.size(), std::vector<double>(opt.grid.size(), std::nan("")));
+    out.sensitivity_penalty = opt.sensitivity_penalty;
     double best_penalised = inf;
     for (const auto& [score, at] : order) {
       if (score >= best_penalised) break;

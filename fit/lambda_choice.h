@@ -123,6 +123,7 @@ struct LambdaChoice {
   // sensitivity[j][l]: the prior sensitivity of class j at grid[l] where the
   // penalty needed it (NaN elsewhere); empty without the penalty.
   std::vector<std::vector<double>> sensitivity;
+  double sensitivity_penalty = 0;  // the weight a of the penalty the pick was made with (0: none)
 };
 
 // `opt` with max_condition set for a photo whose relative pixel noise is

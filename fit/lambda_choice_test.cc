@@ -380,6 +380,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.relative_noise = 0.0025;
   r.condition_bound = 1.44e6;
   r.bound_noise = 0.0004;
+  r.sensitivity_penalty = 1;
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
   EXPECT_TRUE(back.lambda_beyond_condition_bound);
@@ -387,6 +388,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   EXPECT_EQ(back.relative_noise, 0.0025);
   EXPECT_EQ(back.condition_bound, 1.44e6);
   EXPECT_EQ(back.bound_noise, 0.0004);
+  EXPECT_EQ(back.sensitivity_penalty, 1);
   // A fit made without the tables has no sensitivity: none is written, and a
   // file without one reads as not measured.
   nlohmann::json unmeasured = r.ToJson();

@@ -136,6 +136,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.relative_noise = f.relative_noise;
   r.bound_noise = f.bound_noise;
   r.condition_bound = f.choice.condition_bound;
+  r.sensitivity_penalty = f.choice.sensitivity_penalty;
   r.chosen_class = f.fit.chosen;
   r.relative_residual = f.relative_residual;
   for (const ClassSolution& s : f.fit.classes) r.classes.push_back({s.members, s.residual, s.condition[1], s.path});
@@ -196,12 +197,17 @@ nlohmann::json FitRecord::ToJson() const {
       {"beyond_condition_bound", lambda_beyond_condition_bound},
       {"relative_pixel_noise", relative_noise},
       {"bound_noise", bound_noise},
+      {"sensitivity_penalty", sensitivity_penalty},
       {"condition_bound", condition_bound},
       {"why", lambda_beyond_condition_bound
                   ? "no lambda of the grid kept any class within the condition bound: the grid's largest, the class "
                     "scoring best there"
-              : lambda_rule == "cv"  ? "smallest held-out error over wedges of the sphere, any class, among the "
-                                       "lambdas within the condition bound"
+              : lambda_rule == "cv" && sensitivity_penalty > 0
+                  ? "smallest held-out error over wedges of the sphere times (1 + sensitivity_penalty x the "
+                    "candidate's prior sensitivity)^2, any candidate class, among the lambdas within the condition "
+                    "bound"
+              : lambda_rule == "cv" ? "smallest held-out error over wedges of the sphere, any class, among the "
+                                      "lambdas within the condition bound"
               : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class, among the lambdas "
                                        "within the condition bound"
               : lambda_rule == "residual"
@@ -248,6 +254,7 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     r.relative_noise = j.at("lambda_choice").value("relative_pixel_noise", -1.0);  // absent: not recorded
     r.bound_noise = j.at("lambda_choice").value("bound_noise", -1.0);
     r.condition_bound = j.at("lambda_choice").value("condition_bound", -1.0);
+    r.sensitivity_penalty = j.at("lambda_choice").value("sensitivity_penalty", 0.0);
     for (const auto& row : j.at("lambda_choice").at("score_per_class")) {
       std::vector<double> v;
       for (const auto& x : row) v.push_back(FromFinite(x));

@@ -87,6 +87,7 @@ struct FitRecord {
   // under (lambda_choice.h, photo_noise.h); -1: not recorded.
   double relative_noise = -1, condition_bound = -1;
   double bound_noise = -1;  // PhotoFit::bound_noise; -1: not recorded
+  double sensitivity_penalty = 0;  // LambdaChoice::sensitivity_penalty (0: the wedges' error alone)
   int chosen_class = -1;
   double relative_residual = 0;
   struct ClassRow {

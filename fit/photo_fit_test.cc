@@ -88,6 +88,8 @@ TEST(FitPhoto, AMaterialAcrossTheClassesIsFoundByTheEveryBasisCandidate) {
   size_t at = 0;
   while (every.choice.grid[at] != every.choice.lambda) ++at;
   ASSERT_EQ(every.choice.sensitivity.size(), 3u);
+  EXPECT_EQ(every.choice.sensitivity_penalty, 1);
+  EXPECT_EQ(classes.choice.sensitivity_penalty, 1) << "the penalty weighs the classes too";
   EXPECT_NEAR(every.choice.sensitivity[2][at], every.prior_sensitivity, 1e-12);
 }
 
