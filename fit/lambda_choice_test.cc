@@ -44,6 +44,27 @@ Eigen::MatrixXd Render(const Scene& s, const Eigen::MatrixXd& w) {
   for (int c = 0; c < 3; ++c) y.col(c) = s.Y[c].cast<double>() * w.col(c);
   return y;
 }
+// A scene's wedges, factors and the folds' systems of `members`.
+struct Folded {
+  std::vector<int> fold;
+  std::array<ChannelFactor, 3> f;
+  CvSystem cv;
+};
+Folded FoldScene(const Scene& s, const std::vector<std::vector<int>>& members, int K) {
+  Folded x;
+  x.fold = WedgeFolds(s.g, K);
+  x.f = FactorBasisImages(s.Y);
+  x.cv = FactorFolds(x.f, FoldGrams(s.Y, x.fold, K), members);
+  return x;
+}
+// The render plus white Gaussian noise of standard deviation `sigma` per value.
+Eigen::MatrixXd NoisyRender(const Scene& s, const Eigen::MatrixXd& w, double sigma, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0, sigma);
+  Eigen::MatrixXd y = Render(s, w);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  return y;
+}
 }  // namespace
 
 TEST(LambdaChoice, WedgesCoverTheSphereEvenlyAndTheirGramsAddUp) {
@@ -67,16 +88,11 @@ TEST(LambdaChoice, CrossValidationScoreIsTheHeldOutErrorOfARefit) {
   // pixels directly (dense, QR on the training rows) and measuring the wedge.
   const Scene s = MakeScene(10, 2);
   const int K = 4;
-  const std::vector<int> fold = WedgeFolds(s.g, K);
-  std::mt19937 rng(7);
-  std::normal_distribution<double> noise(0, 0.05);
   Eigen::MatrixXd w = Eigen::MatrixXd::Constant(10, 3, 0.1);
   w(3, 0) = 0.7, w(6, 1) = 0.4;
-  Eigen::MatrixXd y = Render(s, w);
-  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  const Eigen::MatrixXd y = NoisyRender(s, w, 0.05, 7);
   const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4}, {5, 6, 7, 8, 9}};
-  const auto f = FactorBasisImages(s.Y);
-  const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, K), members);
+  const auto [fold, f, cv] = FoldScene(s, members, K);
   LambdaChoiceOptions opt;
   opt.rule = "cv";
   opt.grid = {0.001, 0.1, 1.0};
@@ -271,21 +287,17 @@ TEST(LambdaChoice, NoLambdaWithinTheBoundFallsBackToTheLargest) {
 // land where the brute force does, for a noisy photo where a weak and a
 // strong prior compete.
 TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
-  const Scene s = MakeScene(10, 11);
-  const int K = 4;
-  const std::vector<int> fold = WedgeFolds(s.g, K);
-  std::mt19937 rng(12);
-  std::normal_distribution<double> noise(0, 0.03);
-  Eigen::MatrixXd w = Eigen::MatrixXd::Constant(10, 3, 0.1);
-  w(2, 0) = 0.5, w(7, 2) = 0.3;
-  Eigen::MatrixXd y = Render(s, w);
-  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  // Two classes and every basis; a truth over the bases of both classes,
+  // equal weights but two.
   const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4}, {5, 6, 7, 8, 9}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}};
-  const auto f = FactorBasisImages(s.Y);
+  const Scene s = MakeScene(10, 11);
+  Eigen::MatrixXd truth = Eigen::MatrixXd::Constant(10, 3, 0.1);
+  truth(2, 0) = 0.5, truth(7, 2) = 0.3;
+  const Eigen::MatrixXd y = NoisyRender(s, truth, 0.03, 12);
+  const auto [fold, f, cv] = FoldScene(s, members, 4);
   const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
-  const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, K), members);
   const Observation obs = MakeObservation(f, s.Y, y);
-  const std::vector<Observation> held = FoldObservations(s.Y, y, fold, K);
+  const std::vector<Observation> held = FoldObservations(s.Y, y, fold, 4);
   std::vector<Eigen::MatrixXd> metrics;
   for (const auto& J : members) metrics.push_back(f[0].gram(J, J));
   for (double a : {0.0, 1.0, 20.0}) {
@@ -324,10 +336,7 @@ TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
 TEST(FitResidualNoise, IsTheResidualOfTheLeastSquaresFitPerFreePixel) {
   const Scene s = MakeScene(4, 13);  // four random quadratics: full column rank
   const double sigma = 0.01;
-  std::mt19937 rng(14);
-  std::normal_distribution<double> noise(0, sigma);
-  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(4, 3, 0.25));
-  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  const Eigen::MatrixXd y = NoisyRender(s, Eigen::MatrixXd::Constant(4, 3, 0.25), sigma, 14);
   const auto f = FactorBasisImages(s.Y);
   const std::vector<ClassSpectrum> cls = FactorClasses(f, {{0, 1, 2, 3}});
   const Observation obs = MakeObservation(f, s.Y, y);
