@@ -208,7 +208,9 @@ std::vector<double> ResidualScores(const ClassSpectrum& cls, const Observation& 
 std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int>>& classes,
                                                const std::vector<int>& all, const LambdaChoiceOptions& opt) {
   std::vector<std::vector<int>> out = classes;
-  if (opt.all_bases_candidate && opt.rule != "fixed") out.push_back(all);
+  // Not for the rules that pick by in-sample residual: every basis spans each
+  // class, so it would always win there.
+  if (opt.all_bases_candidate && opt.rule != "fixed" && opt.rule != "residual") out.push_back(all);
   return out;
 }
 

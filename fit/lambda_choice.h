@@ -78,7 +78,8 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
 struct LambdaChoiceOptions {
   std::string rule = "cv";  // cv | gcv | fixed (docs/method.md, "Choosing λ per capture")
   // Also offer every basis as one more candidate "class" (prior 1/n): the
-  // criterion then decides whether the class restriction helps this photo.
+  // criterion then decides whether the class restriction helps this photo
+  // (rules cv and gcv; "residual" and "fixed" pick among the classes alone).
   bool all_bases_candidate = true;
   // Rule cv with the BRDF metrics given: each candidate's held-out error is
   // multiplied by (1 + a·s), s its prior sensitivity (fit_confidence.h) and

@@ -330,6 +330,24 @@ TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
   EXPECT_TRUE(penalised.chosen_class != plain.chosen_class || penalised.lambda > plain.lambda);
 }
 
+TEST(LambdaChoice, EveryBasisIsACandidateWhereTheRuleCanWeighIt) {
+  const std::vector<std::vector<int>> classes = {{0, 2}, {1, 3}};
+  const std::vector<int> all = {0, 1, 2, 3};
+  LambdaChoiceOptions opt;
+  for (const char* rule : {"cv", "gcv"}) {
+    opt.rule = rule;
+    EXPECT_EQ(CandidateMembers(classes, all, opt), (std::vector<std::vector<int>>{{0, 2}, {1, 3}, {0, 1, 2, 3}}));
+  }
+  // By in-sample residual every basis would always win; a fixed λ picks by residual too.
+  for (const char* rule : {"residual", "fixed"}) {
+    opt.rule = rule;
+    EXPECT_EQ(CandidateMembers(classes, all, opt), classes) << rule;
+  }
+  opt.rule = "cv";
+  opt.all_bases_candidate = false;
+  EXPECT_EQ(CandidateMembers(classes, all, opt), classes);
+}
+
 // The noise a fit leaves, against a dense least-squares fit (QR) of the
 // pixels: √(Σ_c RSS_c / Σ_c (n − p)) over the photo's RMS, and that is the
 // added white noise's level.
