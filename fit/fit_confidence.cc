@@ -10,52 +10,44 @@ namespace brdfshot {
 
 double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double lambda,
                         const Eigen::MatrixXd& metric) {
-  return PriorSensitivities(cls, obs, {lambda}, metric)[0];
-}
-
-std::vector<double> PriorSensitivities(const ClassSpectrum& cls, const Observation& obs,
-                                       const std::vector<double>& lambdas, const Eigen::MatrixXd& metric) {
   const std::vector<int>& J = cls.members;
-  BRDFSHOT_CHECK(!J.empty() && cls.has_vectors(), "a prior sensitivity needs a class with its eigenvectors");
+  BRDFSHOT_CHECK(!J.empty() && lambda >= 0 && cls.has_vectors(),
+                 "a prior sensitivity needs a class with its eigenvectors and λ ≥ 0");
   BRDFSHOT_CHECK(metric.rows() == static_cast<Eigen::Index>(J.size()) && metric.cols() == metric.rows(),
                  "the BRDF metric is not over the class's bases");
   const Eigen::MatrixXd& M = metric;
   const Eigen::Index k = static_cast<Eigen::Index>(J.size());
   const double cj = static_cast<double>(k);
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / cj);
-  std::vector<double> norm2(lambdas.size(), 0.0), down2(lambdas.size(), 0.0), up2(lambdas.size(), 0.0);
+  double norm2 = 0, down2 = 0, up2 = 0;
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd& e = cls.e[c];
     const Eigen::MatrixXd& V = cls.V[c];
     // w(λ) = μ' + V diag(1/(e + λ_j)) b with b = Vᵀ(z_J − G_JJ μ'), as
-    // SolveFromSpectrum; directions with e + λ_j below 1e-13 e_max keep the prior.
+    // SolveFromSpectrum, with b projected once for the three λ (the penalty
+    // of the λ choice asks for several sensitivities per photo);
+    // directions with e + λ_j below 1e-13 e_max keep the prior.
     const Eigen::VectorXd b = V.transpose() * (obs.z[c](J) - cls.gram[c] * prior);
     const double floor = 1e-13 * std::max(e[k - 1], 1e-300);
     const double scale = obs.norm2[c] / cj;  // λ_j = λ ‖y_c‖² / c_j, as SolveClass
-    const auto coefficients = [&](double lambda) {
+    const auto coefficients = [&](double l) {
       Eigen::VectorXd a(k);
       for (Eigen::Index i = 0; i < k; ++i) {
-        const double den = e[i] + lambda * scale;
+        const double den = e[i] + l * scale;
         a[i] = den > floor ? b[i] / den : 0.0;
       }
       return a;
     };
-    for (size_t l = 0; l < lambdas.size(); ++l) {
-      const double lambda = lambdas[l];
-      BRDFSHOT_CHECK(lambda >= 0, "a prior sensitivity needs λ ≥ 0");
-      const Eigen::VectorXd a = coefficients(lambda);
-      const Eigen::VectorXd w = prior + V * a;
-      const Eigen::VectorXd down = V * (coefficients(lambda / 10) - a);
-      const Eigen::VectorXd up = V * (coefficients(std::max(10 * lambda, 1e-4)) - a);
-      norm2[l] += w.dot(M * w);
-      down2[l] += down.dot(M * down);
-      up2[l] += up.dot(M * up);
-    }
+    const Eigen::VectorXd a = coefficients(lambda);
+    const Eigen::VectorXd w = prior + V * a;
+    const Eigen::VectorXd down = V * (coefficients(lambda / 10) - a);
+    const Eigen::VectorXd up = V * (coefficients(std::max(10 * lambda, 1e-4)) - a);
+    norm2 += w.dot(M * w);
+    down2 += down.dot(M * down);
+    up2 += up.dot(M * up);
   }
-  std::vector<double> out(lambdas.size(), 0.0);
-  for (size_t l = 0; l < lambdas.size(); ++l)
-    if (norm2[l] > 0) out[l] = std::sqrt(std::max(0.0, down2[l]) / norm2[l] + std::max(0.0, up2[l]) / norm2[l]);
-  return out;
+  if (!(norm2 > 0)) return 0;
+  return std::sqrt(std::max(0.0, down2) / norm2 + std::max(0.0, up2) / norm2);
 }
 
 std::vector<Eigen::MatrixXd> ClassMetrics(const Eigen::MatrixXd& gram, const std::vector<std::vector<int>>& members) {

@@ -27,11 +27,6 @@ namespace brdfshot {
 double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double lambda,
                         const Eigen::MatrixXd& metric);
 
-// PriorSensitivity at every λ of `lambdas`, sharing the projection of the
-// photo onto the class's eigenvectors (about a third of each value's cost).
-std::vector<double> PriorSensitivities(const ClassSpectrum& cls, const Observation& obs,
-                                       const std::vector<double>& lambdas, const Eigen::MatrixXd& metric);
-
 // Per class, the BRDF metric over its members: gram(J, J) of a metric over
 // every basis (e.g. the database's gram_cos, or SampledCosineGram of all).
 std::vector<Eigen::MatrixXd> ClassMetrics(const Eigen::MatrixXd& gram, const std::vector<std::vector<int>>& members);

@@ -182,6 +182,18 @@ std::vector<std::array<ChannelResidual, 3>> ResidualCurve(const ClassSpectrum& c
   return out;
 }
 
+// Whether class `cls` at grid value `lambda` stays within the condition bound
+// in every channel: κ(G_JJ + λ_j I) ≤ max_condition (λ_j = λ‖y_c‖²/c_j).
+bool WithinConditionBound(const ClassSpectrum& cls, const Observation& obs, double lambda, double max_condition) {
+  const double cj = static_cast<double>(cls.members.size());
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::VectorXd& e = cls.e[c];
+    const double lj = lambda * obs.norm2[c] / cj;
+    if (e.size() && !((e[e.size() - 1] + lj) <= max_condition * (e[0] + lj))) return false;
+  }
+  return true;
+}
+
 // GCV's n·RSS/(n − dof)² per channel, summed, for every λ of `grid`.
 std::vector<double> GcvScores(const ClassSpectrum& cls, const Observation& obs, double n,
                               const std::vector<double>& grid) {
@@ -252,16 +264,9 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   std::vector<std::vector<bool>> scored = within;
   for (size_t j = 0; j < classes.size(); ++j) {
     if (classes[j].members.empty()) continue;
-    const double cj = static_cast<double>(classes[j].members.size());
     for (size_t l = 0; l < opt.grid.size(); ++l) {
-      bool ok = true;
-      for (int c = 0; c < 3; ++c) {
-        const Eigen::VectorXd& e = classes[j].e[c];
-        const double lj = opt.grid[l] * obs.norm2[c] / cj;
-        if (e.size() && !((e[e.size() - 1] + lj) <= opt.max_condition * (e[0] + lj))) ok = false;
-      }
-      within[j][l] = ok;
-      scored[j][l] = ok || l == last;
+      within[j][l] = WithinConditionBound(classes[j], obs, opt.grid[l], opt.max_condition);
+      scored[j][l] = within[j][l] || l == last;
     }
   }
   std::vector<std::vector<double>> unbounded(classes.size(), std::vector<double>(opt.grid.size(), inf));
@@ -315,7 +320,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     for (const auto& [score, at] : order) {
       if (score >= best_penalised) break;
       const auto [j, l] = at;
-      const double s = PriorSensitivities(classes[j], obs, {opt.grid[l]}, (*metrics)[j])[0];
+      const double s = PriorSensitivity(classes[j], obs, opt.grid[l], (*metrics)[j]);
       out.sensitivity[j][l] = s;
       const double factor = 1 + opt.sensitivity_penalty * s;
       const double penalised = score * factor * factor;
@@ -376,15 +381,8 @@ double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t
   if (cls.members.empty() || !cls.has_vectors() || !(total > 0) || pixels == 0) return -1;
   std::vector<double> sorted = grid;
   std::sort(sorted.begin(), sorted.end());
-  const double cj = static_cast<double>(cls.members.size());
   for (double lambda : sorted) {
-    bool within = true;
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::VectorXd& e = cls.e[c];
-      const double lj = lambda * obs.norm2[c] / cj;
-      if (!((e[e.size() - 1] + lj) <= max_condition * (e[0] + lj))) within = false;
-    }
-    if (!within) continue;
+    if (!WithinConditionBound(cls, obs, lambda, max_condition)) continue;
     const auto curve = ResidualCurve(cls, obs, {lambda});
     double rss = 0, free = 0;
     for (const ChannelResidual& r : curve[0]) rss += r.rss, free += std::max(1.0, n - r.dof);
@@ -407,6 +405,12 @@ LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double
   LambdaChoiceOptions out = opt;
   if (out.max_condition <= 0) out.max_condition = ConditionBoundForNoise(relative_noise, opt.noise_bound);
   return out;
+}
+
+LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double pixel_noise,
+                                          const std::vector<ClassSpectrum>& classes, const Observation& obs,
+                                          size_t pixels) {
+  return ResolveConditionBound(opt, BoundNoise(pixel_noise, classes, obs, pixels, opt));
 }
 
 }  // namespace brdfshot

@@ -149,6 +149,12 @@ double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t
 double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs,
                   size_t pixels, const LambdaChoiceOptions& opt);
 
+// ResolveConditionBound for a photo of pixel noise `pixel_noise`, the bound
+// following BoundNoise over the candidate `classes`.
+LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double pixel_noise,
+                                          const std::vector<ClassSpectrum>& classes, const Observation& obs,
+                                          size_t pixels);
+
 // Scores every class at every λ of the grid for `obs` and picks the best. With
 // `cv` (and the observation's per-fold parts `held`) the predicted error is the
 // held-out error of the pick, whichever rule picked. `pixels`: the observation's pixel count

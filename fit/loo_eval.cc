@@ -332,8 +332,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
           auto_members.size() == ours_members.size() ? ours_classes : FactorClasses(fa, auto_members);
       const LambdaChoice choice =
           ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
-                       ResolveConditionBound(opt.choice, BoundNoise(in.scenes[a].PhotoNoise(m), auto_classes, obs,
-                                                                    in.scenes[a].pixels, opt.choice)),
+                       ResolveConditionBound(opt.choice, in.scenes[a].PhotoNoise(m), auto_classes, obs,
+                                             in.scenes[a].pixels),
                        &auto_metrics);
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
       const std::vector<FittedMethod> methods = {
@@ -373,7 +373,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const CvSystem cv = FactorFolds(js.f, js.fold_gram, auto_members);
       const LambdaChoice choice = ChooseLambda(
           js.f, classes, &cv, obs, HeldObservations(js.fold_gram, m), js.pixels,
-          ResolveConditionBound(opt.choice, BoundNoise(js.photo_noise, classes, obs, js.pixels, opt.choice)),
+          ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels),
           &auto_metrics);
       const ClassSpectrum& picked = classes[choice.chosen_class];
       const std::string pair = in.scenes[a].probe + "+" + in.scenes[b].probe;

@@ -145,8 +145,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         for (int c = 0; c < 3; ++c) held[k].z[c] = ta.fold_cross[k][c].col(t), held[k].norm2[c] = ta.fold_self[k][c][t];
       const LambdaChoice choice =
           ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels,
-                       ResolveConditionBound(opt.choice, BoundNoise(bases.scenes[a].PhotoNoise(t), auto_classes[a], obs,
-                                                                    bases.scenes[a].pixels, opt.choice)),
+                       ResolveConditionBound(opt.choice, bases.scenes[a].PhotoNoise(t), auto_classes[a], obs,
+                                             bases.scenes[a].pixels),
                        metrics);
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes[a], obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, paper_classes[a], obs, so);
@@ -207,7 +207,7 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       const CvSystem joint_cv = FactorFolds(js.f, js.fold_gram, auto_members);
       const LambdaChoice choice = ChooseLambda(
           js.f, classes, &joint_cv, obs, held, js.pixels,
-          ResolveConditionBound(opt.choice, BoundNoise(js.photo_noise, classes, obs, js.pixels, opt.choice)), metrics);
+          ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels), metrics);
       const Eigen::MatrixXd w = SolveAuto(bases, opt.constraint, js.f, obs, classes[choice.chosen_class], choice.lambda,
                                           &constraint_bins, choice.chosen_class);
       const std::string pair = bases.scenes[a].probe + "+" + bases.scenes[b].probe;

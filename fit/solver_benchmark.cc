@@ -89,8 +89,7 @@ ChoiceFactors FactorForChoice(const Problem& p) {
 }
 // The default's bound: the pixel noise, or what the largest candidate's fit leaves.
 LambdaChoiceOptions DefaultBound(const Problem& p, const ChoiceFactors& x, const Observation& obs) {
-  const LambdaChoiceOptions opt;
-  return ResolveConditionBound(opt, BoundNoise(RelativePixelNoise(p.g, p.y), x.classes, obs, p.g.size(), opt));
+  return ResolveConditionBound(LambdaChoiceOptions{}, RelativePixelNoise(p.g, p.y), x.classes, obs, p.g.size());
 }
 
 void BM_FactorGram(benchmark::State& state) {
