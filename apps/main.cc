@@ -12,6 +12,7 @@
 
 #include "apps/command.h"
 #include "util/check.h"
+#include "util/heap_reuse.h"
 #include "util/huge_pages.h"
 
 namespace brdfshot {
@@ -121,6 +122,7 @@ int main(int argc, char** argv) {
   for (const auto& c : brdfshot::Commands()) {
     if (std::strcmp(argv[1], c.name) != 0) continue;
     cv::Mat::setDefaultAllocator(brdfshot::HugePageMatAllocator());  // util/huge_pages.h: why
+    brdfshot::KeepFreedHeapMemory();                                 // util/heap_reuse.h: why
     try {
       const auto start = std::chrono::steady_clock::now();
       const int rc = c.run(argc - 1, argv + 1);

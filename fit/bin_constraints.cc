@@ -20,7 +20,17 @@ BinRows BinRows::EveryNth(const MatrixXfR& tables, const std::vector<int>& membe
   return BinRows(tables, members, rows);
 }
 
+BinRows BinRows::AllRows(const MatrixXfR& tables, const std::vector<int>& members) {
+  if (10 * members.size() < 9 * static_cast<size_t>(tables.cols())) return EveryNth(tables, members, 1);
+  for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables.cols(), "BinRows: member out of range");
+  BinRows b;
+  b.source_ = &tables;
+  b.members_ = members;
+  return b;
+}
+
 void BinRows::Append(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& table_rows) {
+  if (source_) *this = EveryNth(*source_, members_, 1);  // the rows read in place become a copy that can grow
   BRDFSHOT_CHECK(a_.size() == 0 || a_.cols() == static_cast<Eigen::Index>(members.size()),
                  "BinRows: appended rows over other members");
   for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables.cols(), "BinRows: member out of range");
@@ -36,11 +46,20 @@ void BinRows::Append(const MatrixXfR& tables, const std::vector<int>& members, c
 
 Eigen::MatrixXd BinRows::Times(const Eigen::MatrixXd& w) const {
   BRDFSHOT_CHECK(w.rows() == cols());
+  const MatrixXfR& a = source_ ? *source_ : a_;
+  // Each column of w contiguous, for the dot products; in place, spread over
+  // every column of the source with zeros outside the members.
+  MatrixXdR wt;
+  if (source_) {
+    wt = MatrixXdR::Zero(w.cols(), a.cols());
+    for (size_t k = 0; k < members_.size(); ++k) wt.col(members_[k]) = w.row(static_cast<Eigen::Index>(k)).transpose();
+  } else {
+    wt = w.transpose();
+  }
   Eigen::MatrixXd out(rows(), w.cols());
-  const MatrixXdR wt = w.transpose();  // each column of w contiguous, for the dot products
-  Eigen::RowVectorXd row(cols());
+  Eigen::RowVectorXd row(a.cols());
   for (Eigen::Index i = 0; i < rows(); ++i) {
-    row = a_.row(i).cast<double>();
+    row = a.row(i).cast<double>();
     for (Eigen::Index j = 0; j < w.cols(); ++j) out(i, j) = row.dot(wt.row(j));
   }
   return out;
@@ -48,8 +67,22 @@ Eigen::MatrixXd BinRows::Times(const Eigen::MatrixXd& w) const {
 
 Eigen::MatrixXd BinRows::Rows(const std::vector<int>& which) const {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(which.size()), cols());
-  for (size_t i = 0; i < which.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = a_.row(which[i]).cast<double>();
+  for (size_t i = 0; i < which.size(); ++i) {
+    const Eigen::Index r = static_cast<Eigen::Index>(i);
+    if (source_)
+      for (size_t k = 0; k < members_.size(); ++k)
+        out(r, static_cast<Eigen::Index>(k)) = (*source_)(which[i], members_[k]);
+    else
+      out.row(r) = a_.row(which[i]).cast<double>();
+  }
   return out;
+}
+
+double BinRows::RowSum(Eigen::Index i) const {
+  if (!source_) return a_.row(i).cast<double>().sum();
+  double sum = 0;
+  for (int m : members_) sum += (*source_)(i, m);
+  return sum;
 }
 
 bool IsNegativeBin(const float* row, const std::vector<int>& members, const double* w3) {

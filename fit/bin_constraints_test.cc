@@ -130,5 +130,39 @@ TEST(BinRows, ReadsEveryStrideThRowOfTheMembersInPlace) {
   EXPECT_EQ(A.Rows({3}), (Eigen::MatrixXd(1, 2) << 11, 9).finished());
 }
 
+// A class of nearly every column is read in place, in the members' order; its
+// products, rows and sums are those of the table's columns themselves, and
+// rows appended to it make it a copy holding the same rows and the new ones.
+TEST(BinRows, AClassOfNearlyEveryColumnIsReadInPlace) {
+  std::mt19937 rng(5);
+  std::normal_distribution<float> n01;
+  MatrixXfR tables(40, 20);
+  for (Eigen::Index i = 0; i < tables.size(); ++i) tables.data()[i] = n01(rng);
+  std::vector<int> members;
+  for (int j = 19; j >= 0; --j)
+    if (j != 7 && j != 3) members.push_back(j);  // 18 of 20, out of order
+  BinRows A = BinRows::AllRows(tables, members);
+  EXPECT_TRUE(A.in_place());
+  ASSERT_EQ(A.rows(), 40);
+  ASSERT_EQ(A.cols(), 18);
+  const Eigen::MatrixXd dense = tables.cast<double>()(Eigen::all, members);
+  Eigen::MatrixXd w(18, 3);
+  for (Eigen::Index i = 0; i < w.size(); ++i) w.data()[i] = n01(rng);
+  EXPECT_LT((A.Times(w) - dense * w).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(A.Rows({4, 0, 39}), dense(std::vector<int>{4, 0, 39}, Eigen::all));
+  EXPECT_NEAR(A.RowSum(11), dense.row(11).sum(), 1e-12);
+  A.Append(tables, members, {6, 6});
+  EXPECT_FALSE(A.in_place());
+  ASSERT_EQ(A.rows(), 42);
+  EXPECT_EQ(A.Rows({40, 41, 2}), dense(std::vector<int>{6, 6, 2}, Eigen::all));
+
+  // Half the columns: copied.
+  const BinRows half = BinRows::AllRows(tables, {0, 2, 4, 6, 8, 10, 12, 14, 16, 18});
+  EXPECT_FALSE(half.in_place());
+  EXPECT_EQ(half.rows(), 40);
+  EXPECT_EQ(half.Rows({5}),
+            tables.cast<double>()(std::vector<int>{5}, std::vector<int>{0, 2, 4, 6, 8, 10, 12, 14, 16, 18}));
+}
+
 }  // namespace
 }  // namespace brdfshot

@@ -62,8 +62,20 @@ Observation SumObservations(const std::vector<Observation>& parts) {
   return all;
 }
 
+Eigen::MatrixXd FoldClassFactor::TimesQ(int c, const Eigen::MatrixXd& x) const {
+  if (Q[c].size() > 0) return Q[c] * x;
+  if (members.size() < 2) return x;  // no reflector: Q = I
+  return reflectors[c].matrixQ() * x;
+}
+
+Eigen::VectorXd FoldClassFactor::TimesQt(int c, const Eigen::VectorXd& x) const {
+  if (Q[c].size() > 0) return Q[c].transpose() * x;
+  if (members.size() < 2) return x;
+  return reflectors[c].matrixQ().adjoint() * x;
+}
+
 CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
-                     const std::vector<std::vector<int>>& members) {
+                     const std::vector<std::vector<int>>& members, FoldQ q) {
   CvSystem cv;
   cv.held_gram = std::move(held_gram);
   const int K = static_cast<int>(cv.held_gram.size());
@@ -80,10 +92,13 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
         cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
         t.gram[c] = f[c].gram(members[j], members[j]) - cv.held_class[k][j][c];
         if (members[j].empty()) continue;
-        const Eigen::Tridiagonalization<Eigen::MatrixXd> tri(t.gram[c]);
-        t.Q[c] = tri.matrixQ();
+        Eigen::Tridiagonalization<Eigen::MatrixXd> tri(t.gram[c]);
         t.diagonal[c] = tri.diagonal();
         t.off_diagonal[c] = members[j].size() > 1 ? Eigen::VectorXd(tri.subDiagonal()) : Eigen::VectorXd();
+        if (q == FoldQ::kFormed)
+          t.Q[c] = tri.matrixQ();
+        else
+          t.reflectors[c] = std::move(tri);
       }
     }
   }
@@ -111,7 +126,7 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd z_train = (all.z[c] - held.z[c])(J);
     const double n2_train = all.norm2[c] - held.norm2[c];
-    const Eigen::VectorXd b = cls.Q[c].transpose() * (z_train - cls.gram[c] * prior);
+    const Eigen::VectorXd b = cls.TimesQt(c, z_train - cls.gram[c] * prior);
     const Eigen::VectorXd& d = cls.diagonal[c];
     const Eigen::VectorXd& e = cls.off_diagonal[c];
     // (T + λ_j I) x = b by the LDLᵀ recurrence of a tridiagonal matrix. Where
@@ -132,10 +147,9 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
         y[i] = b[i] - (i > 0 ? off * y[i - 1] / piv[i - 1] : 0.0);
       }
       if (!ok) continue;
-      for (Eigen::Index i = k - 1; i >= 0; --i)
-        X(i, l) = (y[i] - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv[i];
+      for (Eigen::Index i = k - 1; i >= 0; --i) X(i, l) = (y[i] - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv[i];
     }
-    Eigen::MatrixXd W = cls.Q[c] * X;  // k × L, all λ at once
+    Eigen::MatrixXd W = cls.TimesQ(c, X);  // k × L, all λ at once
     W.colwise() += prior;
     const Eigen::MatrixXd GW = held_class_gram[c] * W;
     const Eigen::VectorXd zh = held.z[c](J);
@@ -228,8 +242,7 @@ std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int
 
 LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
-                          size_t pixels, const LambdaChoiceOptions& opt,
-                          const std::vector<Eigen::MatrixXd>* metrics) {
+                          size_t pixels, const LambdaChoiceOptions& opt, const std::vector<Eigen::MatrixXd>* metrics) {
   LambdaChoice out;
   out.rule = opt.rule;
   out.condition_bound = opt.max_condition;
@@ -289,7 +302,8 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
       for (size_t l = 0; l < opt.grid.size(); ++l) {
         if (!scored[j][l]) continue;
         unbounded[j][l] = 0;
-        for (int k = 0; k < K; ++k) unbounded[j][l] += per_fold[j * K + k][l];  // in fold order: the same on any thread count
+        for (int k = 0; k < K; ++k)
+          unbounded[j][l] += per_fold[j * K + k][l];  // in fold order: the same on any thread count
       }
     }
   }
@@ -364,8 +378,8 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
       predicted = 0;
       for (size_t k = 0; k < held.size(); ++k) {
         std::vector<double> s(opt.grid.size(), 0.0);
-        AddFoldScores(cv->train[k][out.chosen_class], cv->held_class[k][out.chosen_class], obs, held[k], opt.grid,
-                      &s, at);
+        AddFoldScores(cv->train[k][out.chosen_class], cv->held_class[k][out.chosen_class], obs, held[k], opt.grid, &s,
+                      at);
         predicted += s[chosen_l];  // in fold order, as the cv rule sums
       }
     }
@@ -391,8 +405,8 @@ double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t
   return -1;
 }
 
-double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs,
-                  size_t pixels, const LambdaChoiceOptions& opt) {
+double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs, size_t pixels,
+                  const LambdaChoiceOptions& opt) {
   if (!(pixel_noise > 0) || opt.max_condition > 0 || classes.empty()) return pixel_noise;
   const ClassSpectrum* largest = &classes[0];
   for (const ClassSpectrum& c : classes)

@@ -57,15 +57,29 @@ Observation SumObservations(const std::vector<Observation>& parts);
 
 // Everything about the folds that does not depend on the photo.
 // One class's training system in one fold, G_JJ − G_fold,JJ = Q T Qᵀ
-// (Householder tridiagonalisation, Q formed) per channel: each λ of the grid
-// is then a tridiagonal solve and a product with Q. Eigenvectors, which cost
-// three times as much to compute, are not needed.
+// (Householder tridiagonalisation) per channel: each λ of the grid is then a
+// tridiagonal solve and a product with Q. Eigenvectors, which cost three times
+// as much to compute, are not needed. Q is formed (a matrix) or kept as its
+// Householder reflectors (FoldQ).
 struct FoldClassFactor {
   std::vector<int> members;
   std::array<Eigen::MatrixXd, 3> gram;  // G_JJ − G_fold,JJ
-  std::array<Eigen::MatrixXd, 3> Q;
+  std::array<Eigen::MatrixXd, 3> Q;     // formed (FoldQ::kFormed), else empty
+  // The reflectors (FoldQ::kReflectors), else empty.
+  std::array<Eigen::Tridiagonalization<Eigen::MatrixXd>, 3> reflectors;
   std::array<Eigen::VectorXd, 3> diagonal, off_diagonal;  // of T
+  // Q x and Qᵀ x for channel c, whichever way Q is held.
+  Eigen::MatrixXd TimesQ(int c, const Eigen::MatrixXd& x) const;
+  Eigen::VectorXd TimesQt(int c, const Eigen::VectorXd& x) const;
 };
+
+// How the folds' Q is held. Forming it costs as much again as the
+// tridiagonalisation; a formed Q then makes each photo's λ grid one matrix
+// product, the reflectors about twice that. A system that serves many photos
+// (a scene's every target in an evaluation, `fit`'s photo timed on its own)
+// forms it; one that serves a single photo (leave-one-out, where every left-out
+// material has its own classes) keeps the reflectors.
+enum class FoldQ { kFormed, kReflectors };
 
 struct CvSystem {
   std::vector<std::array<Eigen::MatrixXd, 3>> held_gram;                // [fold][channel], n × n
@@ -73,7 +87,7 @@ struct CvSystem {
   std::vector<std::vector<std::array<Eigen::MatrixXd, 3>>> held_class;  // [fold][class][channel]: G_fold,JJ
 };
 CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
-                     const std::vector<std::vector<int>>& members);
+                     const std::vector<std::vector<int>>& members, FoldQ q = FoldQ::kFormed);
 
 struct LambdaChoiceOptions {
   std::string rule = "cv";  // cv | gcv | fixed (docs/method.md, "Choosing λ per capture")
@@ -146,8 +160,8 @@ double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t
 // as noise (a glossy sphere reflects the probe's edges), which would hold a
 // photo that the bases explain to far below it at the tightest bound. An
 // unknown pixel noise (kUnknownNoise) stays unknown: the cautious bound.
-double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs,
-                  size_t pixels, const LambdaChoiceOptions& opt);
+double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs, size_t pixels,
+                  const LambdaChoiceOptions& opt);
 
 // ResolveConditionBound for a photo of pixel noise `pixel_noise`, the bound
 // following BoundNoise over the candidate `classes`.

@@ -85,36 +85,43 @@ TEST(LambdaChoice, WedgesCoverTheSphereEvenlyAndTheirGramsAddUp) {
 
 TEST(LambdaChoice, CrossValidationScoreIsTheHeldOutErrorOfARefit) {
   // The score from the fold spectra must equal refitting on the other wedges'
-  // pixels directly (dense, QR on the training rows) and measuring the wedge.
+  // pixels directly (dense, QR on the training rows) and measuring the wedge,
+  // with the folds' Q formed or kept as reflectors, for a class of one basis too.
   const Scene s = MakeScene(10, 2);
   const int K = 4;
   Eigen::MatrixXd w = Eigen::MatrixXd::Constant(10, 3, 0.1);
   w(3, 0) = 0.7, w(6, 1) = 0.4;
   const Eigen::MatrixXd y = NoisyRender(s, w, 0.05, 7);
-  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4}, {5, 6, 7, 8, 9}};
-  const auto [fold, f, cv] = FoldScene(s, members, K);
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4}, {5, 6, 7, 8, 9}, {7}};
+  const std::vector<int> fold = WedgeFolds(s.g, K);
+  const std::array<ChannelFactor, 3> f = FactorBasisImages(s.Y);
   LambdaChoiceOptions opt;
   opt.rule = "cv";
   opt.grid = {0.001, 0.1, 1.0};
   opt.max_condition = 1e300;
-  const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
-                                       FoldObservations(s.Y, y, fold, K), s.g.size(), opt);
-  for (size_t j = 0; j < members.size(); ++j)
-    for (size_t l = 0; l < opt.grid.size(); ++l) {
-      double want = 0;
-      for (int k = 0; k < K; ++k)
-        for (int c = 0; c < 3; ++c) {
-          std::vector<int> train, test;
-          for (size_t p = 0; p < fold.size(); ++p) (fold[p] == k ? test : train).push_back(static_cast<int>(p));
-          const Eigen::MatrixXd A = s.Y[c].cast<double>()(train, members[j]);
-          const Eigen::VectorXd b = y.col(c)(train);
-          const double cj = static_cast<double>(members[j].size());
-          const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
-          const Eigen::VectorXd wj = SolveRidge(A, b, opt.grid[l] * b.squaredNorm() / cj, prior);
-          want += (s.Y[c].cast<double>()(test, members[j]) * wj - y.col(c)(test)).squaredNorm();
-        }
-      EXPECT_NEAR(ch.score[j][l], want, 1e-7 * want) << "class " << j << " lambda " << opt.grid[l];
-    }
+  for (const FoldQ q : {FoldQ::kFormed, FoldQ::kReflectors}) {
+    SCOPED_TRACE(q == FoldQ::kFormed ? "Q formed" : "reflectors");
+    const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, K), members, q);
+    EXPECT_EQ(cv.train[0][0].Q[0].size() > 0, q == FoldQ::kFormed);
+    const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
+                                         FoldObservations(s.Y, y, fold, K), s.g.size(), opt);
+    for (size_t j = 0; j < members.size(); ++j)
+      for (size_t l = 0; l < opt.grid.size(); ++l) {
+        double want = 0;
+        for (int k = 0; k < K; ++k)
+          for (int c = 0; c < 3; ++c) {
+            std::vector<int> train, test;
+            for (size_t p = 0; p < fold.size(); ++p) (fold[p] == k ? test : train).push_back(static_cast<int>(p));
+            const Eigen::MatrixXd A = s.Y[c].cast<double>()(train, members[j]);
+            const Eigen::VectorXd b = y.col(c)(train);
+            const double cj = static_cast<double>(members[j].size());
+            const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
+            const Eigen::VectorXd wj = SolveRidge(A, b, opt.grid[l] * b.squaredNorm() / cj, prior);
+            want += (s.Y[c].cast<double>()(test, members[j]) * wj - y.col(c)(test)).squaredNorm();
+          }
+        EXPECT_NEAR(ch.score[j][l], want, 1e-7 * want) << "class " << j << " lambda " << opt.grid[l];
+      }
+  }
 }
 
 TEST(LambdaChoice, GcvScoreMatchesTheDenseHatMatrix) {

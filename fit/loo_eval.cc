@@ -54,7 +54,8 @@ Eigen::MatrixXd OracleWeights(const Eigen::MatrixXd& gcos, const std::vector<int
 // under several probes; where near-duplicate bases leave it singular, a ridge
 // of 1e-12 of its mean diagonal keeps the Cholesky factor defined (it moves
 // the residual by that order).
-Eigen::MatrixXd RelitOracleWeights(const std::vector<SceneFactors>& scenes, int a, const std::vector<int>& keep, int m) {
+Eigen::MatrixXd RelitOracleWeights(const std::vector<SceneFactors>& scenes, int a, const std::vector<int>& keep,
+                                   int m) {
   const Eigen::Index n = scenes[a].f[0].gram.rows();
   Eigen::MatrixXd w = Eigen::MatrixXd::Zero(n, 3);
   for (int c = 0; c < 3; ++c) {
@@ -73,6 +74,43 @@ Eigen::MatrixXd RelitOracleWeights(const std::vector<SceneFactors>& scenes, int 
 std::vector<std::vector<int>> MembersInFull(const ClassModel& model, const std::vector<int>& keep) {
   std::vector<std::vector<int>> out(model.classes());
   for (size_t i = 0; i < keep.size(); ++i) out[model.label[i]].push_back(keep[i]);
+  return out;
+}
+
+// The candidates' spectra: the model's classes as `classes` already holds
+// them (CandidateMembers lists them first), the rest (every basis) factored
+// here.
+std::vector<ClassSpectrum> CandidateSpectra(const std::array<ChannelFactor, 3>& f,
+                                            const std::vector<ClassSpectrum>& classes,
+                                            const std::vector<std::vector<int>>& candidates) {
+  BRDFSHOT_CHECK(candidates.size() >= classes.size());
+  for (size_t j = 0; j < classes.size(); ++j)
+    BRDFSHOT_CHECK(candidates[j] == classes[j].members, "the candidates do not begin with the classes");
+  std::vector<ClassSpectrum> out = classes;
+  for (ClassSpectrum& s :
+       FactorClasses(f, {candidates.begin() + static_cast<std::ptrdiff_t>(classes.size()), candidates.end()}))
+    out.push_back(std::move(s));
+  return out;
+}
+
+// The printed M-step's classes, eigenvalues only (it is solved once at its
+// fixed λ). It leaves one class of every basis, whose spectrum the default's
+// every-basis candidate already holds: taken from `known` where the members
+// are the same (the same eigenvalues: the solver's are computed alike with or
+// without the vectors), factored otherwise.
+std::vector<ClassSpectrum> EigenvaluesOfClasses(const std::array<ChannelFactor, 3>& f,
+                                                const std::vector<std::vector<int>>& members,
+                                                const std::vector<ClassSpectrum>& known) {
+  std::vector<ClassSpectrum> out;
+  for (const std::vector<int>& J : members) {
+    const auto same = std::find_if(known.begin(), known.end(), [&](const ClassSpectrum& s) { return s.members == J; });
+    if (same == known.end()) {
+      out.push_back(FactorClasses(f, {J}, SpectrumParts::kEigenvalues)[0]);
+    } else {
+      out.push_back(*same);
+      out.back().V = {};
+    }
+  }
   return out;
 }
 
@@ -121,10 +159,10 @@ JointScene JointOfScenes(const SceneFactors& a, const SceneFactors& b, PhotoStat
     for (int c = 0; c < 3; ++c) j.fold_gram[k][c] = sa * a.fold_gram[k][c] + sb * b.fold_gram[k][c];
   j.pixels = a.pixels + b.pixels;
   const double ea = photo_a.noise, eb = photo_b.noise;
-  j.photo_noise = ea < 0 || eb < 0 ? kUnknownNoise
-                                   : std::sqrt((ea * ea * static_cast<double>(a.pixels) +
-                                                eb * eb * static_cast<double>(b.pixels)) /
-                                               static_cast<double>(std::max<size_t>(1, j.pixels)));
+  j.photo_noise = ea < 0 || eb < 0
+                      ? kUnknownNoise
+                      : std::sqrt((ea * ea * static_cast<double>(a.pixels) + eb * eb * static_cast<double>(b.pixels)) /
+                                  static_cast<double>(std::max<size_t>(1, j.pixels)));
   j.scale = {sa, sb};
   return j;
 }
@@ -229,12 +267,13 @@ Eigen::MatrixXd SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, cons
   if (kind == WeightConstraint::Kind::kBins) {
     auto it = bins_of_class->find(class_index);
     if (it == bins_of_class->end())
-      it = bins_of_class->emplace(class_index, BinRows::EveryNth(in.constraint_sample, cls.members, 1)).first;
+      it = bins_of_class->emplace(class_index, BinRows::AllRows(in.constraint_sample, cls.members)).first;
     bins = &it->second;
     constraint.bins = bins;
   }
   ClassSolution s = SolveClass(f, cls, obs, lambda, constraint);
-  if (bins && in.table_check) KeepNonNegativeOnTable(f, cls, obs, lambda, in.table_check->tables(), in.table_check, bins, &s);
+  if (bins && in.table_check)
+    KeepNonNegativeOnTable(f, cls, obs, lambda, in.table_check->tables(), in.table_check, bins, &s);
   return s.weights;
 }
 
@@ -321,20 +360,17 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const Observation obs = BasisObservation(fa, {3 * m, 3 * m + 1, 3 * m + 2});
       const std::vector<ClassSpectrum> ours_classes = FactorClasses(fa, ours_members);
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes, obs, so);
+      const std::vector<ClassSpectrum> auto_classes = CandidateSpectra(fa, ours_classes, auto_members);
       // Solved once at its fixed λ: eigenvalues only (the printed M-step
       // leaves one class of every basis, whose eigenvectors cost about a quarter of a fit).
-      const ClasswiseFit paper =
-          SolveClasswise(fa, FactorClasses(fa, paper_members, SpectrumParts::kEigenvalues), obs, so);
+      const ClasswiseFit paper = SolveClasswise(fa, EigenvaluesOfClasses(fa, paper_members, auto_classes), obs, so);
       // The default fit: folds of this scene without material m's columns.
       const std::vector<Observation> held = HeldObservations(in.scenes[a].fold_gram, m);
-      const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members);
-      const std::vector<ClassSpectrum> auto_classes =
-          auto_members.size() == ours_members.size() ? ours_classes : FactorClasses(fa, auto_members);
-      const LambdaChoice choice =
-          ChooseLambda(fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
-                       ResolveConditionBound(opt.choice, in.scenes[a].PhotoNoise(m), auto_classes, obs,
-                                             in.scenes[a].pixels),
-                       &auto_metrics);
+      const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members, FoldQ::kReflectors);
+      const LambdaChoice choice = ChooseLambda(
+          fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
+          ResolveConditionBound(opt.choice, in.scenes[a].PhotoNoise(m), auto_classes, obs, in.scenes[a].pixels),
+          &auto_metrics);
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
       const std::vector<FittedMethod> methods = {
           {"auto", solve_auto(fa, obs, choice.chosen_class, picked, choice.lambda), choice.chosen_class},
@@ -355,7 +391,9 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
             &row);
         row.brdf = RelativeError(gcos, meth.w, m);
         row.insample = RelativeError({&fa[0].gram, &fa[1].gram, &fa[2].gram}, meth.w, m);
-        if (row.method == "auto") row.prior_sensitivity = PriorSensitivity(picked, obs, choice.lambda, in.gram_cos(picked.members, picked.members));
+        if (row.method == "auto")
+          row.prior_sensitivity =
+              PriorSensitivity(picked, obs, choice.lambda, in.gram_cos(picked.members, picked.members));
         per_material[m].push_back(row);
       }
       SetNegativeBins(in.bin_sample, methods, &per_material[m][per_material[m].size() - methods.size()]);
@@ -370,11 +408,10 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const JointScene js = JointOfScenes(in.scenes[a], in.scenes[b], m);
       const Observation obs = BasisObservation(js.f, {3 * m, 3 * m + 1, 3 * m + 2});
       const std::vector<ClassSpectrum> classes = FactorClasses(js.f, auto_members);
-      const CvSystem cv = FactorFolds(js.f, js.fold_gram, auto_members);
-      const LambdaChoice choice = ChooseLambda(
-          js.f, classes, &cv, obs, HeldObservations(js.fold_gram, m), js.pixels,
-          ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels),
-          &auto_metrics);
+      const CvSystem cv = FactorFolds(js.f, js.fold_gram, auto_members, FoldQ::kReflectors);
+      const LambdaChoice choice =
+          ChooseLambda(js.f, classes, &cv, obs, HeldObservations(js.fold_gram, m), js.pixels,
+                       ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels), &auto_metrics);
       const ClassSpectrum& picked = classes[choice.chosen_class];
       const std::string pair = in.scenes[a].probe + "+" + in.scenes[b].probe;
       const std::vector<FittedMethod> methods = {
@@ -385,7 +422,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
                                      in.scenes[b].probe + " (" + pair + ")"};
       for (int i = 0; i < 3; ++i) {
         LooRow row = MethodRow(methods[i], in.materials[m], probes[i], choice, opt.lambda);
-        if (i > 0) row.lambda = row.predicted = row.condition_bound = -1;  // the single fits' own are in their "auto" rows
+        if (i > 0)
+          row.lambda = row.predicted = row.condition_bound = -1;  // the single fits' own are in their "auto" rows
         ScoreRelitExcept(
             in.scenes, {a, b},
             [&](int s) {

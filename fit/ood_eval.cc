@@ -143,11 +143,10 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       std::vector<Observation> held(K);
       for (int k = 0; k < K; ++k)
         for (int c = 0; c < 3; ++c) held[k].z[c] = ta.fold_cross[k][c].col(t), held[k].norm2[c] = ta.fold_self[k][c][t];
-      const LambdaChoice choice =
-          ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels,
-                       ResolveConditionBound(opt.choice, bases.scenes[a].PhotoNoise(t), auto_classes[a], obs,
-                                             bases.scenes[a].pixels),
-                       metrics);
+      const LambdaChoice choice = ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels,
+                                               ResolveConditionBound(opt.choice, bases.scenes[a].PhotoNoise(t),
+                                                                     auto_classes[a], obs, bases.scenes[a].pixels),
+                                               metrics);
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes[a], obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, paper_classes[a], obs, so);
       Eigen::MatrixXd oracle(n, 3);
@@ -159,7 +158,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       }
       const ClassSpectrum& picked = auto_classes[a][choice.chosen_class];
       const std::vector<FittedMethod> methods = {
-          {"auto", SolveAuto(bases, opt.constraint, fa, obs, picked, choice.lambda, &constraint_bins, choice.chosen_class),
+          {"auto",
+           SolveAuto(bases, opt.constraint, fa, obs, picked, choice.lambda, &constraint_bins, choice.chosen_class),
            choice.chosen_class},
           {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
           {"ours", ours.weights(), ours.chosen},
@@ -173,7 +173,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         row.brdf = std::nan("");
         row.insample = TargetError(fa.data(), ta, m.w, t);
         if (row.method == "auto" && bases.gram_cos.rows() == n)
-          row.prior_sensitivity = PriorSensitivity(picked, obs, choice.lambda, bases.gram_cos(picked.members, picked.members));
+          row.prior_sensitivity =
+              PriorSensitivity(picked, obs, choice.lambda, bases.gram_cos(picked.members, picked.members));
         per_target[t].push_back(row);
       }
       SetNegativeBins(bases.bin_sample, methods, &per_target[t][per_target[t].size() - methods.size()]);
@@ -204,10 +205,10 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         }
       }
       const std::vector<ClassSpectrum> classes = FactorClasses(js.f, auto_members);
-      const CvSystem joint_cv = FactorFolds(js.f, js.fold_gram, auto_members);
-      const LambdaChoice choice = ChooseLambda(
-          js.f, classes, &joint_cv, obs, held, js.pixels,
-          ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels), metrics);
+      const CvSystem joint_cv = FactorFolds(js.f, js.fold_gram, auto_members, FoldQ::kReflectors);
+      const LambdaChoice choice =
+          ChooseLambda(js.f, classes, &joint_cv, obs, held, js.pixels,
+                       ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels), metrics);
       const Eigen::MatrixXd w = SolveAuto(bases, opt.constraint, js.f, obs, classes[choice.chosen_class], choice.lambda,
                                           &constraint_bins, choice.chosen_class);
       const std::string pair = bases.scenes[a].probe + "+" + bases.scenes[b].probe;
@@ -217,7 +218,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
                                      bases.scenes[b].probe + " (" + pair + ")"};
       for (int i = 0; i < 3; ++i) {
         LooRow row = MethodRow(methods[i], targets[t], probes[i], choice, opt.lambda);
-        if (i > 0) row.lambda = row.predicted = row.condition_bound = -1;  // the single fits' own are in their "auto" rows
+        if (i > 0)
+          row.lambda = row.predicted = row.condition_bound = -1;  // the single fits' own are in their "auto" rows
         ScoreRelitExcept(
             bases.scenes, {a, b},
             [&](int s) { return TargetError(bases.scenes[s].f.data(), scenes[s], methods[i].w, t); }, &row);
