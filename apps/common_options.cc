@@ -104,6 +104,9 @@ void AddConditionBoundOptions(po::options_description& d, LambdaChoiceOptions* c
        "with --max-condition 0: the bound is never below this")
       ("max-noise-bound", po::value(&choice->noise_bound.max_bound)->default_value(choice->noise_bound.max_bound),
        "with --max-condition 0: the bound is never above this (a noise-free photo gets it)")
+      ("residual-noise", po::value(&choice->noise_bound.read_fit_residual)->default_value(choice->noise_bound.read_fit_residual),
+       "with --max-condition 0: 1: the pixel noise is also read on what the fit of every basis leaves, and the bound "
+       "follows the lesser (a glossy shading's fine detail is not noise); 0: the photo's own reading")
       ("every-basis-candidate", po::value(&choice->all_bases_candidate)->default_value(choice->all_bases_candidate),
        "1: besides the model's classes, every basis is one more candidate class of the λ choice; 0: the classes only")
       ("sensitivity-penalty", po::value(&choice->sensitivity_penalty)->default_value(choice->sensitivity_penalty),

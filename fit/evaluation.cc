@@ -151,8 +151,8 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
   if (ood) Yts = TransportOperator::ApplyToEach(ops, targets.B);
   if (opt.lambert_ggx) lobes = TransportOperator::ApplyToEach(ops, in.lobes.Tables(base.grid));
   if (opt.progress)
-    std::fprintf(stderr, "basis images: %zu scenes, %zu pixels x %d bases, %d theta_o levels, %.2f s\n",
-                 scenes.size(), geometry.size(), base.num_bases(), operators.front().levels(), bw.Seconds());
+    std::fprintf(stderr, "basis images: %zu scenes, %zu pixels x %d bases, %d theta_o levels, %.2f s\n", scenes.size(),
+                 geometry.size(), base.num_bases(), operators.front().levels(), bw.Seconds());
   for (size_t i = 0; i < scenes.size(); ++i) {
     const bool scoring_only = i >= fitted;
     const std::array<MatrixXfR, 3>& Y = Ys[i];
@@ -166,13 +166,17 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     if (ood) {
       target_scenes.push_back(scoring_only ? MakeTargetScene(s.f, Y, Yts[i], one_fold, 1)
                                            : MakeTargetScene(s.f, Y, Yts[i], fold_of_pixel, opt.folds));
+      target_scenes.back().images = &Ys[i];
+      target_scenes.back().target_images = &Yts[i];
     }
     if (opt.lambert_ggx) in.lobe_scenes.push_back(MakeLobeScene(ood ? Yts[i] : Y, lobes[i]));
+    if (!ood) s.images = &Ys[i];
     (scoring_only ? ev.directional_probes : ev.probes).push_back(s.probe);
     in.scenes.push_back(std::move(s));
   }
   ev.seconds_basis = bw.Seconds();
 
+  in.geometry = &geometry;
   LooOptions loo = opt.loo;
   loo.progress = opt.progress;
   Stopwatch fw;

@@ -405,6 +405,50 @@ double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t
   return -1;
 }
 
+Eigen::MatrixXd LeastRegularisedWeights(const ClassSpectrum& cls, const Observation& obs,
+                                        const std::vector<double>& grid, double max_condition) {
+  if (cls.members.empty() || !cls.has_vectors()) return {};
+  std::vector<double> sorted = grid;
+  std::sort(sorted.begin(), sorted.end());
+  const double cj = static_cast<double>(cls.members.size());
+  for (double lambda : sorted) {
+    if (!WithinConditionBound(cls, obs, lambda, max_condition)) continue;
+    Eigen::MatrixXd w(cls.members.size(), 3);
+    for (int c = 0; c < 3; ++c) w.col(c) = SolveFromSpectrum(cls, c, obs.z[c](cls.members), lambda * obs.norm2[c] / cj);
+    return w;
+  }
+  return {};
+}
+
+double FitPixelNoise(const PixelGeometry& g, const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
+                     const std::vector<ClassSpectrum>& classes, const Observation& obs,
+                     const LambdaChoiceOptions& opt) {
+  if (classes.empty()) return kUnknownNoise;
+  const ClassSpectrum* largest = &classes[0];
+  for (const ClassSpectrum& c : classes)
+    if (c.members.size() > largest->members.size()) largest = &c;
+  const Eigen::MatrixXd w = LeastRegularisedWeights(*largest, obs, opt.grid, opt.noise_bound.max_bound);
+  if (w.size() == 0) return kUnknownNoise;
+  const std::vector<int>& J = largest->members;
+  Eigen::MatrixXd fitted(y.rows(), 3);
+  for (int c = 0; c < 3; ++c)
+    for (Eigen::Index p = 0; p < y.rows(); ++p) {
+      const float* row = Y[c].row(p).data();
+      double sum = 0;
+      for (size_t k = 0; k < J.size(); ++k) sum += static_cast<double>(row[J[k]]) * w(static_cast<Eigen::Index>(k), c);
+      fitted(p, c) = sum;
+    }
+  return ResidualPixelNoise(g, y, fitted);
+}
+
+double BoundPixelNoise(double pixel_noise, const PixelGeometry& g, const std::array<MatrixXfR, 3>& Y,
+                       const Eigen::MatrixXd& y, const std::vector<ClassSpectrum>& classes, const Observation& obs,
+                       const LambdaChoiceOptions& opt) {
+  if (!(pixel_noise > 0) || opt.max_condition > 0 || !opt.noise_bound.read_fit_residual) return pixel_noise;
+  const double residual = FitPixelNoise(g, Y, y, classes, obs, opt);
+  return residual >= 0 ? std::min(pixel_noise, residual) : pixel_noise;
+}
+
 double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs, size_t pixels,
                   const LambdaChoiceOptions& opt) {
   if (!(pixel_noise > 0) || opt.max_condition > 0 || classes.empty()) return pixel_noise;

@@ -154,6 +154,30 @@ LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double
 double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t pixels,
                         const std::vector<double>& grid, double max_condition);
 
+// The weights (members × 3) of class `cls` at the least λ of `grid` that
+// keeps it within `max_condition` (FitResidualNoise's fit); empty when none is
+// or the class has no eigenvectors.
+Eigen::MatrixXd LeastRegularisedWeights(const ClassSpectrum& cls, const Observation& obs,
+                                        const std::vector<double>& grid, double max_condition);
+
+// ResidualPixelNoise of the photo y (pixels × 3) after the largest candidate
+// class's least-regularised fit within opt.noise_bound.max_bound, over the
+// basis images Y (pixels × bases per channel) of geometry g; kUnknownNoise
+// where there is no such fit.
+double FitPixelNoise(const PixelGeometry& g, const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
+                     const std::vector<ClassSpectrum>& classes, const Observation& obs, const LambdaChoiceOptions& opt);
+
+// The pixel noise the bound starts from: the photo's own reading
+// `pixel_noise` (RelativePixelNoise), or the lesser of it and FitPixelNoise
+// with opt.noise_bound.read_fit_residual. A fit of every basis takes a
+// shading's detail away, which no basis image can follow in noise: on a
+// render or a clean capture what it leaves reads far below the photo, on a
+// noisy one about the same. Unchanged for an unknown or zero noise and when
+// the bound is fixed (opt.max_condition > 0).
+double BoundPixelNoise(double pixel_noise, const PixelGeometry& g, const std::array<MatrixXfR, 3>& Y,
+                       const Eigen::MatrixXd& y, const std::vector<ClassSpectrum>& classes, const Observation& obs,
+                       const LambdaChoiceOptions& opt);
+
 // The noise the condition bound follows: the photo's pixel noise
 // (RelativePixelNoise), or what the fit of the largest candidate class leaves
 // where that is less. Immerkær's estimator reads a shading's own fine detail

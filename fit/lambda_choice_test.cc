@@ -389,6 +389,46 @@ TEST(FitResidualNoise, IsTheResidualOfTheLeastSquaresFitPerFreePixel) {
   EXPECT_EQ(BoundNoise(1.0, cls, obs, s.g.size(), opt), 1.0) << "a fixed bound does not follow the noise";
 }
 
+// Basis images with their own fine texture: a combination of them carries
+// detail the photo's noise reading counts as noise; the fit of every basis
+// holds the detail, and what it leaves reads the added noise alone.
+TEST(FitPixelNoise, ReadsTheNoiseWhereTheFitHasTakenTheDetailAway) {
+  Scene s = MakeScene(5, 21);
+  std::mt19937 rng(22);
+  std::uniform_real_distribution<float> texture(0.7f, 1.3f);
+  for (int c = 0; c < 3; ++c)
+    for (Eigen::Index i = 0; i < s.Y[c].size(); ++i) s.Y[c].data()[i] *= texture(rng);
+  const double sigma = 0.002;
+  const Eigen::MatrixXd w = Eigen::MatrixXd::Constant(5, 3, 0.2);
+  const Eigen::MatrixXd y = NoisyRender(s, w, sigma, 23);
+  const double rms = std::sqrt(y.squaredNorm() / static_cast<double>(y.size()));
+  const auto f = FactorBasisImages(s.Y);
+  const std::vector<ClassSpectrum> classes = FactorClasses(f, {{0, 1}, {0, 1, 2, 3, 4}});
+  const Observation obs = MakeObservation(f, s.Y, y);
+  LambdaChoiceOptions opt;
+  opt.noise_bound.max_bound = 1e300;
+  const double photo = RelativePixelNoise(s.g, y);
+  const double fit = FitPixelNoise(s.g, s.Y, y, classes, obs, opt);
+  EXPECT_GT(photo, 10 * sigma / rms);
+  EXPECT_NEAR(fit, sigma / rms, 0.15 * sigma / rms);  // ~1400 pixels: the median's spread
+  // The least-regularised weights are the least-squares fit's here (λ = 0 is within the bound).
+  const Eigen::MatrixXd least = LeastRegularisedWeights(classes[1], obs, {1, 0, 0.1}, 1e300);
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::MatrixXd A = s.Y[c].cast<double>();
+    EXPECT_LT((least.col(c) - A.colPivHouseholderQr().solve(y.col(c))).norm(), 1e-6) << c;
+  }
+  EXPECT_EQ(LeastRegularisedWeights(classes[1], obs, {0}, 1.0).size(), 0) << "no λ within the bound";
+  // The bound's pixel noise: the lesser reading, unless turned off or fixed.
+  EXPECT_NEAR(BoundPixelNoise(photo, s.g, s.Y, y, classes, obs, opt), fit, 1e-15);
+  EXPECT_EQ(BoundPixelNoise(kUnknownNoise, s.g, s.Y, y, classes, obs, opt), kUnknownNoise);
+  EXPECT_EQ(BoundPixelNoise(0.0, s.g, s.Y, y, classes, obs, opt), 0.0);
+  opt.noise_bound.read_fit_residual = false;
+  EXPECT_EQ(BoundPixelNoise(photo, s.g, s.Y, y, classes, obs, opt), photo);
+  opt.noise_bound.read_fit_residual = true;
+  opt.max_condition = 1e6;
+  EXPECT_EQ(BoundPixelNoise(photo, s.g, s.Y, y, classes, obs, opt), photo);
+}
+
 TEST(FitRecord, RoundTripsThroughJson) {
   FitRecord r;
   r.database = "MERL (NBRDF approximation)";

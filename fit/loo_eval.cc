@@ -367,10 +367,16 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       // The default fit: folds of this scene without material m's columns.
       const std::vector<Observation> held = HeldObservations(in.scenes[a].fold_gram, m);
       const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members, FoldQ::kReflectors);
+      double pixel_noise = in.scenes[a].PhotoNoise(m);
+      if (in.geometry && in.scenes[a].images) {
+        const std::array<MatrixXfR, 3>& Y = *in.scenes[a].images;
+        Eigen::MatrixXd y(Y[0].rows(), 3);  // the photo: the material's own basis images
+        for (int c = 0; c < 3; ++c) y.col(c) = Y[c].col(3 * m + c).cast<double>();
+        pixel_noise = BoundPixelNoise(pixel_noise, *in.geometry, Y, y, auto_classes, obs, opt.choice);
+      }
       const LambdaChoice choice = ChooseLambda(
           fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
-          ResolveConditionBound(opt.choice, in.scenes[a].PhotoNoise(m), auto_classes, obs, in.scenes[a].pixels),
-          &auto_metrics);
+          ResolveConditionBound(opt.choice, pixel_noise, auto_classes, obs, in.scenes[a].pixels), &auto_metrics);
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
       const std::vector<FittedMethod> methods = {
           {"auto", solve_auto(fa, obs, choice.chosen_class, picked, choice.lambda), choice.chosen_class},

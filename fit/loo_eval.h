@@ -48,6 +48,9 @@ struct SceneFactors {  // one probe's basis images, factored
   // this scene, for the condition bound of "auto"; empty: 0 (noise-free).
   std::vector<double> photo_noise;
   double PhotoNoise(int m) const { return photo_noise.empty() ? 0.0 : photo_noise[m]; }
+  // The basis images themselves (pixels × n per channel), for the noise a
+  // fit leaves (BoundPixelNoise); null: not read. They outlive the run.
+  const std::array<MatrixXfR, 3>* images = nullptr;
 };
 
 // One scene's analytic lobe images (fit/lambert_ggx.h) against the images of
@@ -89,6 +92,7 @@ struct LooInputs {
   // `scenes`, over the scored materials); empty: not run.
   LambertGgxLobes lobes;
   std::vector<LobeScene> lobe_scenes;
+  const PixelGeometry* geometry = nullptr;  // of the scenes' pixels, with their images; null: none
 };
 
 // Rows offset, offset + stride, … of the tables `B` (bins × bases).
@@ -201,7 +205,7 @@ struct JointScene {
   std::array<ChannelFactor, 3> f;
   std::vector<std::array<Eigen::MatrixXd, 3>> fold_gram;
   size_t pixels = 0;
-  double photo_noise = 0;  // pooled over the photos' pixels as StackPhotos pools it
+  double photo_noise = 0;         // pooled over the photos' pixels as StackPhotos pools it
   std::array<double, 2> scale{};  // s_a², s_b²: what each photo's projections are multiplied by
 };
 // `photo_a`, `photo_b`: each photo's mean squared pixel value and relative

@@ -143,10 +143,15 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       std::vector<Observation> held(K);
       for (int k = 0; k < K; ++k)
         for (int c = 0; c < 3; ++c) held[k].z[c] = ta.fold_cross[k][c].col(t), held[k].norm2[c] = ta.fold_self[k][c][t];
-      const LambdaChoice choice = ChooseLambda(fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels,
-                                               ResolveConditionBound(opt.choice, bases.scenes[a].PhotoNoise(t),
-                                                                     auto_classes[a], obs, bases.scenes[a].pixels),
-                                               metrics);
+      double pixel_noise = bases.scenes[a].PhotoNoise(t);
+      if (bases.geometry && ta.images && ta.target_images) {
+        Eigen::MatrixXd y(ta.target_images->at(0).rows(), 3);
+        for (int c = 0; c < 3; ++c) y.col(c) = (*ta.target_images)[c].col(3 * t + c).cast<double>();
+        pixel_noise = BoundPixelNoise(pixel_noise, *bases.geometry, *ta.images, y, auto_classes[a], obs, opt.choice);
+      }
+      const LambdaChoice choice = ChooseLambda(
+          fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels,
+          ResolveConditionBound(opt.choice, pixel_noise, auto_classes[a], obs, bases.scenes[a].pixels), metrics);
       const ClasswiseFit ours = SolveClasswise(fa, ours_classes[a], obs, so);
       const ClasswiseFit paper = SolveClasswise(fa, paper_classes[a], obs, so);
       Eigen::MatrixXd oracle(n, 3);

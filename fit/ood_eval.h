@@ -27,6 +27,10 @@ struct TargetScene {
   std::array<Eigen::VectorXd, 3> self;                     // T: ‖target image‖²
   std::vector<std::array<Eigen::MatrixXd, 3>> fold_cross;  // per wedge
   std::vector<std::array<Eigen::VectorXd, 3>> fold_self;
+  // The scene's basis images and the targets' images (as MakeTargetScene's Y
+  // and Yt), for the noise a fit leaves (BoundPixelNoise); null: not read.
+  const std::array<MatrixXfR, 3>* images = nullptr;
+  const std::array<MatrixXfR, 3>* target_images = nullptr;
 };
 
 // Y: the scene's basis images (pixels × n per channel), Yt: the targets' images

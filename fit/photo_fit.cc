@@ -71,7 +71,9 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   const std::vector<Observation> held = FoldObservations(basis.Y, y, fold_of_pixel, folds);
   Observation obs = SumObservations(held);
   out.relative_noise = opt.relative_noise ? *opt.relative_noise : RelativePixelNoise(basis.geometry, y);
-  out.bound_noise = BoundNoise(out.relative_noise, classes, obs, basis.geometry.size(), opt.lambda);
+  out.bound_noise =
+      BoundNoise(BoundPixelNoise(out.relative_noise, basis.geometry, basis.Y, y, classes, obs, opt.lambda), classes,
+                 obs, basis.geometry.size(), opt.lambda);
   out.choice = ChooseLambda(f, classes, &cv_system, obs, held, basis.geometry.size(),
                             ResolveConditionBound(opt.lambda, out.bound_noise), metrics.empty() ? nullptr : &metrics);
   std::vector<double> lambda(classes.size(), out.choice.lambda);
@@ -206,14 +208,14 @@ nlohmann::json FitRecord::ToJson() const {
                   ? "smallest held-out error over wedges of the sphere times (1 + sensitivity_penalty x the "
                     "candidate's prior sensitivity)^2, any candidate class, among the lambdas within the condition "
                     "bound"
-              : lambda_rule == "cv" ? "smallest held-out error over wedges of the sphere, any class, among the "
-                                      "lambdas within the condition bound"
+              : lambda_rule == "cv"  ? "smallest held-out error over wedges of the sphere, any class, among the "
+                                       "lambdas within the condition bound"
               : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class, among the lambdas "
                                        "within the condition bound"
               : lambda_rule == "residual"
                   ? "smallest in-sample residual, any class, among the lambdas within the condition bound: each "
                     "class at the least lambda the bound allows"
-                                     : "given by --lambda; class by residual"}};
+                  : "given by --lambda; class by residual"}};
   j["bases"] = bases;
   j["weights"] = nlohmann::json::array();
   for (Eigen::Index i = 0; i < weights.rows(); ++i)

@@ -9,7 +9,10 @@
 
 namespace brdfshot {
 
-double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
+namespace {
+// Immerkær's σ of `y` pooled over RGB (the variance averaged over the
+// channels); kUnknownNoise without a full 3 × 3 neighbourhood.
+double PooledNoiseSigma(const PixelGeometry& g, const Eigen::MatrixXd& y) {
   BRDFSHOT_CHECK(static_cast<size_t>(y.rows()) == g.size() && y.cols() == 3);
   if (g.size() == 0) return kUnknownNoise;
   // Pixel index by position, on the bounding box of the pixels.
@@ -17,7 +20,8 @@ double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
   const auto [y0, y1] = std::minmax_element(g.y.begin(), g.y.end());
   const int w = *x1 - *x0 + 1, h = *y1 - *y0 + 1;
   std::vector<int> at(static_cast<size_t>(w) * h, -1);
-  for (size_t i = 0; i < g.size(); ++i) at[static_cast<size_t>(g.y[i] - *y0) * w + (g.x[i] - *x0)] = static_cast<int>(i);
+  for (size_t i = 0; i < g.size(); ++i)
+    at[static_cast<size_t>(g.y[i] - *y0) * w + (g.x[i] - *x0)] = static_cast<int>(i);
   // The kernel's response at every pixel whose 8 neighbours are all there,
   // per channel, in one pass over the bounding box.
   std::array<std::vector<double>, 3> response;
@@ -29,8 +33,8 @@ double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
     const int* here = above + w;
     const int* below = here + w;
     for (int px = 1; px + 1 < w; ++px) {
-      const int n[9] = {above[px - 1], above[px], above[px + 1], here[px - 1], here[px],
-                        here[px + 1],  below[px - 1], below[px], below[px + 1]};
+      const int n[9] = {above[px - 1], above[px],     above[px + 1], here[px - 1], here[px],
+                        here[px + 1],  below[px - 1], below[px],     below[px + 1]};
       if (std::min({n[0], n[1], n[2], n[3], n[4], n[5], n[6], n[7], n[8]}) < 0) continue;
       for (int c = 0; c < 3; ++c) {
         const auto p = [&](int k) { return v[3 * static_cast<size_t>(n[k]) + c]; };
@@ -49,9 +53,23 @@ double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
     const double sigma = *mid / (6.0 * 0.674489750196);
     variance += sigma * sigma;
   }
+  return std::sqrt(variance / 3.0);
+}
+
+double RelativeTo(double sigma, const Eigen::MatrixXd& y) {
   const double mean_square = y.squaredNorm() / static_cast<double>(y.size());
-  if (!(mean_square > 0)) return kUnknownNoise;
-  return std::sqrt(variance / 3.0 / mean_square);
+  if (!(sigma >= 0) || !(mean_square > 0)) return kUnknownNoise;
+  return sigma / std::sqrt(mean_square);
+}
+}  // namespace
+
+double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y) {
+  return RelativeTo(PooledNoiseSigma(g, y), y);
+}
+
+double ResidualPixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y, const Eigen::MatrixXd& fitted) {
+  BRDFSHOT_CHECK(fitted.rows() == y.rows() && fitted.cols() == y.cols());
+  return RelativeTo(PooledNoiseSigma(g, y - fitted), y);
 }
 
 double ConditionBoundForNoise(double relative_noise, const NoiseBoundOptions& opt) {

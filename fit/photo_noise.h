@@ -37,6 +37,13 @@ namespace brdfshot {
 constexpr double kUnknownNoise = -1;
 double RelativePixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y);
 
+// The same estimator read on what a fit leaves, y − fitted, relative to the
+// photo's RMS. The kernel reads a shading's own fine detail as noise (a
+// glossy sphere reflects the probe's edges); a fit that explains the shading
+// takes that detail away and leaves the noise, which no smooth combination of
+// basis images can follow.
+double ResidualPixelNoise(const PixelGeometry& g, const Eigen::MatrixXd& y, const Eigen::MatrixXd& fitted);
+
 struct NoiseBoundOptions {
   // m: how far below the pixel noise a direction's amplitude may be and
   // still be trusted; measured (docs/benchmarks.md, "The condition bound").
@@ -47,6 +54,11 @@ struct NoiseBoundOptions {
   // (24-bit mantissa, summed in double) carry too little to separate
   // directions.
   double min_bound = 1e6, max_bound = 1e12;
+  // Also read the noise on what the largest candidate class's fit leaves
+  // (ResidualPixelNoise, lambda_choice.h's BoundPixelNoise) and follow the
+  // lesser: the photo's own reading counts a glossy shading's fine detail as
+  // noise.
+  bool read_fit_residual = true;
 };
 
 // clamp((m/ε)², min_bound, max_bound); max_bound for ε = 0 (noise-free);

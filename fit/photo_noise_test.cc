@@ -66,6 +66,26 @@ TEST(PhotoNoise, IsolatedHighlightsDoNotReadAsNoise) {
   EXPECT_LT(RelativePixelNoise(g, y), 1e-12);
 }
 
+// Fine detail everywhere (a one-pixel checkerboard of ±10 % on the shading)
+// reads as noise on the photo; what a fit that holds the detail leaves is the
+// noise alone, relative to the photo's RMS.
+TEST(PhotoNoise, WhatAFitLeavesReadsTheNoiseWithoutTheDetail) {
+  const PixelGeometry g = Disc(40);
+  Eigen::MatrixXd clean = Smooth(g);
+  for (size_t i = 0; i < g.size(); ++i) clean.row(static_cast<Eigen::Index>(i)) *= (g.x[i] + g.y[i]) % 2 ? 1.1 : 0.9;
+  const double sigma = 0.005;
+  Eigen::MatrixXd y = clean;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0, sigma);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y.data()[i] += n(rng);
+  const double truth = sigma / Rms(y);
+  EXPECT_GT(RelativePixelNoise(g, y), 10 * truth);
+  EXPECT_NEAR(ResidualPixelNoise(g, y, clean), truth, 0.06 * truth);
+  EXPECT_LT(ResidualPixelNoise(g, y, y), 1e-12);
+  EXPECT_EQ(ResidualPixelNoise(g, Eigen::MatrixXd::Zero(y.rows(), 3), Eigen::MatrixXd::Zero(y.rows(), 3)),
+            kUnknownNoise);
+}
+
 TEST(PhotoNoise, BlackOrTooSmallPhotosReadUnknownAndGetTheCautiousBound) {
   const PixelGeometry g = Disc(10);
   EXPECT_EQ(RelativePixelNoise(g, Eigen::MatrixXd::Zero(g.size(), 3)), kUnknownNoise);
