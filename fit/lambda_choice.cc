@@ -388,36 +388,40 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   return out;
 }
 
+namespace {
+// The least λ of `grid` that keeps `cls` within `max_condition`; −1 when none
+// does.
+double LeastLambdaWithin(const ClassSpectrum& cls, const Observation& obs, const std::vector<double>& grid,
+                         double max_condition) {
+  double least = -1;
+  for (double lambda : grid)
+    if ((least < 0 || lambda < least) && WithinConditionBound(cls, obs, lambda, max_condition)) least = lambda;
+  return least;
+}
+}  // namespace
+
 double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t pixels,
                         const std::vector<double>& grid, double max_condition) {
   const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
   const double n = static_cast<double>(pixels);
   if (cls.members.empty() || !cls.has_vectors() || !(total > 0) || pixels == 0) return -1;
-  std::vector<double> sorted = grid;
-  std::sort(sorted.begin(), sorted.end());
-  for (double lambda : sorted) {
-    if (!WithinConditionBound(cls, obs, lambda, max_condition)) continue;
-    const auto curve = ResidualCurve(cls, obs, {lambda});
-    double rss = 0, free = 0;
-    for (const ChannelResidual& r : curve[0]) rss += r.rss, free += std::max(1.0, n - r.dof);
-    return std::sqrt(rss / free) / std::sqrt(total / (3 * n));
-  }
-  return -1;
+  const double lambda = LeastLambdaWithin(cls, obs, grid, max_condition);
+  if (lambda < 0) return -1;
+  const auto curve = ResidualCurve(cls, obs, {lambda});
+  double rss = 0, free = 0;
+  for (const ChannelResidual& r : curve[0]) rss += r.rss, free += std::max(1.0, n - r.dof);
+  return std::sqrt(rss / free) / std::sqrt(total / (3 * n));
 }
 
 Eigen::MatrixXd LeastRegularisedWeights(const ClassSpectrum& cls, const Observation& obs,
                                         const std::vector<double>& grid, double max_condition) {
   if (cls.members.empty() || !cls.has_vectors()) return {};
-  std::vector<double> sorted = grid;
-  std::sort(sorted.begin(), sorted.end());
+  const double lambda = LeastLambdaWithin(cls, obs, grid, max_condition);
+  if (lambda < 0) return {};
   const double cj = static_cast<double>(cls.members.size());
-  for (double lambda : sorted) {
-    if (!WithinConditionBound(cls, obs, lambda, max_condition)) continue;
-    Eigen::MatrixXd w(cls.members.size(), 3);
-    for (int c = 0; c < 3; ++c) w.col(c) = SolveFromSpectrum(cls, c, obs.z[c](cls.members), lambda * obs.norm2[c] / cj);
-    return w;
-  }
-  return {};
+  Eigen::MatrixXd w(cls.members.size(), 3);
+  for (int c = 0; c < 3; ++c) w.col(c) = SolveFromSpectrum(cls, c, obs.z[c](cls.members), lambda * obs.norm2[c] / cj);
+  return w;
 }
 
 double FitPixelNoise(const PixelGeometry& g, const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
