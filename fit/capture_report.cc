@@ -140,14 +140,13 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
        << (f.lambda_rule != "fixed" && f.condition_bound > 0 && f.relative_noise >= 0
                ? "\n- the photo's pixel noise " + Sci(f.relative_noise) + " of its RMS" +
                      (f.bound_noise >= 0 && f.bound_noise < f.relative_noise
-                          ? " (the fit of the largest candidate class leaves " + Sci(f.bound_noise) + ": the noise is at most that)"
+                          ? " (what the fit of the largest candidate class leaves reads " + Sci(f.bound_noise) + ")"
                           : std::string()) +
                      ": λ searched within the condition bound " + Sci(f.condition_bound) +
                      " (a noisier photo is trusted less far)"
                : std::string())
-       << "\n- chosen class **" << f.chosen_class
-       << "**, relative residual " << f.relative_residual << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary")
-       << "` (MERL format), weights `" << rel(fit_json) << "`\n";
+       << "\n- chosen class **" << f.chosen_class << "**, relative residual " << f.relative_residual << "\n- BRDF: `"
+       << rel(r / "fit" / "brdf.binary") << "` (MERL format), weights `" << rel(fit_json) << "`\n";
     if (f.lambert_ggx) {
       const LambertGgxFit& g = *f.lambert_ggx;
       md << "- analytic baseline (Lambert + GGX on the same pixels, `lambert_ggx` in fit.json): relative residual "
@@ -201,8 +200,8 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
         if (fs::exists(gp)) {
           const cv::Mat ggx = ReadHdrImage(gp.string());
           if (ggx.size() != truth.size()) throw FileError(gp.string(), "size differs from " + tp.string());
-          caption += "; the Lambert + GGX baseline: relative RMSE " +
-                     Fixed(CompareLinearImages(truth, ggx).relative_rmse, 4);
+          caption +=
+              "; the Lambert + GGX baseline: relative RMSE " + Fixed(CompareLinearImages(truth, ggx).relative_rmse, 4);
         }
       }
       WritePngTonemapped((pics / ("relit_" + probe + ".png")).string(), shown, AutoExposure(shown));

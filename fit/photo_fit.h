@@ -48,7 +48,8 @@ struct PhotoFit {
   double prior_sensitivity = -1;
   double relative_noise = 0;  // the photo's pixel noise (kUnknownNoise: not measurable)
   // What the condition bound followed: the pixel noise, or what the largest
-  // candidate's fit leaves where that is less (BoundNoise, lambda_choice.h).
+  // candidate's fit leaves where that reads less (BoundPixelNoise and
+  // BoundNoise, lambda_choice.h).
   double bound_noise = 0;
   // The analytic baseline fitted to the same pixels, when the basis images
   // hold its lobes (fit/lambert_ggx.h).
