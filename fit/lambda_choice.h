@@ -76,9 +76,10 @@ struct FoldClassFactor {
 // How the folds' Q is held. Forming it costs as much again as the
 // tridiagonalisation; a formed Q then makes each photo's λ grid one matrix
 // product, the reflectors about twice that. A system that serves many photos
-// (a scene's every target in an evaluation, `fit`'s photo timed on its own)
-// forms it; one that serves a single photo (leave-one-out, where every left-out
-// material has its own classes) keeps the reflectors.
+// (a scene's every target in an evaluation) forms it, and so does `fit`, whose
+// λ choice is held to milliseconds after the factorisation; one that serves a
+// single photo in an evaluation (leave-one-out, where every left-out material
+// has its own classes) keeps the reflectors.
 enum class FoldQ { kFormed, kReflectors };
 
 struct CvSystem {
