@@ -389,6 +389,15 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
 }
 
 namespace {
+// The candidate with the most members (every basis, where it is one): the
+// fit whose residual bounds the noise. The first of equals.
+const ClassSpectrum& LargestClass(const std::vector<ClassSpectrum>& classes) {
+  const ClassSpectrum* largest = &classes.at(0);
+  for (const ClassSpectrum& c : classes)
+    if (c.members.size() > largest->members.size()) largest = &c;
+  return *largest;
+}
+
 // The least λ of `grid` that keeps `cls` within `max_condition`; −1 when none
 // does.
 double LeastLambdaWithin(const ClassSpectrum& cls, const Observation& obs, const std::vector<double>& grid,
@@ -428,12 +437,10 @@ double FitPixelNoise(const PixelGeometry& g, const std::array<MatrixXfR, 3>& Y, 
                      const std::vector<ClassSpectrum>& classes, const Observation& obs,
                      const LambdaChoiceOptions& opt) {
   if (classes.empty()) return kUnknownNoise;
-  const ClassSpectrum* largest = &classes[0];
-  for (const ClassSpectrum& c : classes)
-    if (c.members.size() > largest->members.size()) largest = &c;
-  const Eigen::MatrixXd w = LeastRegularisedWeights(*largest, obs, opt.grid, opt.noise_bound.max_bound);
+  const ClassSpectrum& largest = LargestClass(classes);
+  const Eigen::MatrixXd w = LeastRegularisedWeights(largest, obs, opt.grid, opt.noise_bound.max_bound);
   if (w.size() == 0) return kUnknownNoise;
-  const std::vector<int>& J = largest->members;
+  const std::vector<int>& J = largest.members;
   Eigen::MatrixXd fitted(y.rows(), 3);
   for (int c = 0; c < 3; ++c)
     for (Eigen::Index p = 0; p < y.rows(); ++p) {
@@ -456,10 +463,7 @@ double BoundPixelNoise(double pixel_noise, const PixelGeometry& g, const std::ar
 double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs, size_t pixels,
                   const LambdaChoiceOptions& opt) {
   if (!(pixel_noise > 0) || opt.max_condition > 0 || classes.empty()) return pixel_noise;
-  const ClassSpectrum* largest = &classes[0];
-  for (const ClassSpectrum& c : classes)
-    if (c.members.size() > largest->members.size()) largest = &c;
-  const double fit_noise = FitResidualNoise(*largest, obs, pixels, opt.grid, opt.noise_bound.max_bound);
+  const double fit_noise = FitResidualNoise(LargestClass(classes), obs, pixels, opt.grid, opt.noise_bound.max_bound);
   return fit_noise >= 0 ? std::min(pixel_noise, fit_noise) : pixel_noise;
 }
 
