@@ -23,11 +23,7 @@ std::vector<double> PhotoNoisePerMaterial(const PixelGeometry& g, const std::arr
   const int M = static_cast<int>(images[0].cols() / 3);
   std::vector<double> noise(M);
 #pragma omp parallel for schedule(static)
-  for (int m = 0; m < M; ++m) {
-    Eigen::MatrixXd y(images[0].rows(), 3);
-    for (int c = 0; c < 3; ++c) y.col(c) = images[c].col(3 * m + c).cast<double>();
-    noise[m] = RelativePixelNoise(g, y);
-  }
+  for (int m = 0; m < M; ++m) noise[m] = RelativePixelNoise(g, MaterialImage(images, m));
   return noise;
 }
 }  // namespace

@@ -116,6 +116,12 @@ std::vector<ClassSpectrum> EigenvaluesOfClasses(const std::array<ChannelFactor, 
 
 }  // namespace
 
+Eigen::MatrixXd MaterialImage(const std::array<MatrixXfR, 3>& images, int m) {
+  Eigen::MatrixXd y(images[0].rows(), 3);
+  for (int c = 0; c < 3; ++c) y.col(c) = images[c].col(3 * m + c).cast<double>();
+  return y;
+}
+
 MatrixXfR SampleBins(const MatrixXfR& B, int stride, int offset) {
   BRDFSHOT_CHECK(stride >= 1 && offset >= 0);
   const Eigen::Index rows = B.rows() > offset ? (B.rows() - offset + stride - 1) / stride : 0;
@@ -369,10 +375,9 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members, FoldQ::kReflectors);
       double pixel_noise = in.scenes[a].PhotoNoise(m);
       if (in.geometry && in.scenes[a].images) {
+        // The photo is the material's own basis images.
         const std::array<MatrixXfR, 3>& Y = *in.scenes[a].images;
-        Eigen::MatrixXd y(Y[0].rows(), 3);  // the photo: the material's own basis images
-        for (int c = 0; c < 3; ++c) y.col(c) = Y[c].col(3 * m + c).cast<double>();
-        pixel_noise = BoundPixelNoise(pixel_noise, *in.geometry, Y, y, auto_classes, obs, opt.choice);
+        pixel_noise = BoundPixelNoise(pixel_noise, *in.geometry, Y, MaterialImage(Y, m), auto_classes, obs, opt.choice);
       }
       const LambdaChoice choice = ChooseLambda(
           fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,

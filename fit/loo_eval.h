@@ -95,6 +95,10 @@ struct LooInputs {
   const PixelGeometry* geometry = nullptr;  // of the scenes' pixels, with their images; null: none
 };
 
+// Material m's photo (pixels × 3) from images laid out as the basis images
+// are: pixels × 3M per channel, material m's channel c in column 3m + c.
+Eigen::MatrixXd MaterialImage(const std::array<MatrixXfR, 3>& images, int m);
+
 // Rows offset, offset + stride, … of the tables `B` (bins × bases).
 MatrixXfR SampleBins(const MatrixXfR& B, int stride, int offset = 0);
 

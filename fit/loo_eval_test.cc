@@ -49,6 +49,21 @@ LooOptions Options() {
 // The relit error from Gram matrices against the images themselves,
 // ‖Y w − Y e_m‖ / ‖Y e_m‖ over RGB, for weights on a few bases (a class's
 // fit) and on all of them.
+TEST(MaterialImage, TakesEachChannelFromTheMaterialsOwnColumn) {
+  std::array<MatrixXfR, 3> images;
+  for (int c = 0; c < 3; ++c) {
+    images[c].resize(2, 6);  // two materials, two pixels
+    for (int j = 0; j < 6; ++j) images[c](0, j) = 100.0f * c + j, images[c](1, j) = -(100.0f * c + j);
+  }
+  const Eigen::MatrixXd y = MaterialImage(images, 1);
+  ASSERT_EQ(y.rows(), 2);
+  ASSERT_EQ(y.cols(), 3);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(y(0, c), 100.0 * c + 3 + c) << c;
+    EXPECT_EQ(y(1, c), -(100.0 * c + 3 + c)) << c;
+  }
+}
+
 TEST(RelativeError, IsTheRelativeImageErrorOfTheWeights) {
   std::mt19937 rng(3);
   std::normal_distribution<double> u(0, 1);

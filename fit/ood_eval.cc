@@ -145,9 +145,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         for (int c = 0; c < 3; ++c) held[k].z[c] = ta.fold_cross[k][c].col(t), held[k].norm2[c] = ta.fold_self[k][c][t];
       double pixel_noise = bases.scenes[a].PhotoNoise(t);
       if (bases.geometry && ta.images && ta.target_images) {
-        Eigen::MatrixXd y(ta.target_images->at(0).rows(), 3);
-        for (int c = 0; c < 3; ++c) y.col(c) = (*ta.target_images)[c].col(3 * t + c).cast<double>();
-        pixel_noise = BoundPixelNoise(pixel_noise, *bases.geometry, *ta.images, y, auto_classes[a], obs, opt.choice);
+        pixel_noise = BoundPixelNoise(pixel_noise, *bases.geometry, *ta.images, MaterialImage(*ta.target_images, t),
+                                      auto_classes[a], obs, opt.choice);
       }
       const LambdaChoice choice = ChooseLambda(
           fa, auto_classes[a], &cv[a], obs, held, bases.scenes[a].pixels,
