@@ -112,77 +112,139 @@ std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& m
   return out;
 }
 
+namespace {
+// One channel's cutting-plane state: the dual over the bins so far, grown by
+// each round's bins instead of formed again (Q = A_C K A_Cᵀ, its linear term
+// A_C w₀, and the last round's multipliers, from which the next round's solve
+// starts).
+struct ChannelRounds {
+  Eigen::VectorXd w0, values;
+  double threshold = 0;
+  std::vector<char> in;  // the bins with a multiplier so far
+  Eigen::MatrixXd K;     // from inverse(), at the first round
+  Eigen::MatrixXd Ac, KAt, Q;
+  Eigen::VectorXd linear, mu;
+  BinConstrainedSolution s;
+  bool done = false;
+};
+
+// One round of channel `c`: adds the bins below zero that have no multiplier
+// yet and solves the dual again. False when there are none (the channel is
+// complete).
+bool AddBinsAndSolve(ChannelRounds& ch, const std::function<Eigen::MatrixXd()>& inverse, const BinRows& A,
+                     int bins_per_round) {
+  const Eigen::Index k = ch.w0.size();
+  std::vector<int> negative;
+  for (Eigen::Index i = 0; i < ch.values.size(); ++i)
+    if (ch.values[i] < ch.threshold && !ch.in[i]) negative.push_back(static_cast<int>(i));
+  if (negative.empty()) return false;
+  const size_t take = std::min<size_t>(negative.size(), static_cast<size_t>(bins_per_round));
+  std::partial_sort(negative.begin(), negative.begin() + take, negative.end(),
+                    [&](int a, int b) { return ch.values[a] < ch.values[b]; });
+  negative.resize(take);
+  for (int i : negative) ch.in[i] = 1;
+  if (ch.K.size() == 0) {
+    ch.K = inverse();
+    BRDFSHOT_CHECK(ch.K.rows() == k && ch.K.cols() == k, "ConstrainToNonNegativeBins: the inverse's size differs");
+  }
+  const Eigen::Index old = ch.Ac.rows(), r = old + static_cast<Eigen::Index>(take);
+  const Eigen::MatrixXd new_rows = A.Rows(negative);
+  const Eigen::MatrixXd new_KAt = ch.K * new_rows.transpose();
+  ch.Ac.conservativeResize(r, Eigen::NoChange);
+  ch.Ac.bottomRows(r - old) = new_rows;
+  ch.KAt.conservativeResize(Eigen::NoChange, r);
+  ch.KAt.rightCols(r - old) = new_KAt;
+  ch.Q.conservativeResize(r, r);
+  ch.Q.rightCols(r - old) = ch.Ac * new_KAt;
+  ch.Q.bottomLeftCorner(r - old, old) = ch.Q.topRightCorner(old, r - old).transpose();
+  ch.linear.conservativeResize(r);
+  ch.linear.tail(r - old) = -(new_rows * ch.w0);
+  ch.mu.conservativeResize(r);
+  ch.mu.tail(r - old).setZero();
+  ch.mu = SolveNonNegative(ch.Q, ch.linear, 1e-10, 0, &ch.mu).x;
+  ch.s.w = ch.w0 + ch.KAt * ch.mu;
+  ch.s.active = static_cast<int>((ch.mu.array() > 0).count());
+  return true;
+}
+
+// The active bins sit at zero only up to the dual's rounding (~1e-11 of w₀'s
+// scale), which is a visible "negative" wherever the whole fit is near zero.
+// Tables are non-negative, so adding a multiple of the all-ones weights
+// raises every bin: the smallest multiple that lifts them all is of rounding
+// size and changes the fit by as little.
+void LiftRoundingNegatives(ChannelRounds& ch, const BinRows& A) {
+  const Eigen::Index k = ch.w0.size();
+  double t = 0;
+  for (Eigen::Index i = 0; i < ch.values.size(); ++i)
+    if (ch.values[i] < 0) {
+      const double lift = A.RowSum(i);  // only where a bin is below zero: most fits have none
+      if (lift > 0) t = std::max(t, -ch.values[i] / lift);
+    }
+  if (t > 0 && t * std::sqrt(static_cast<double>(k)) <= 1e-6 * std::max(ch.w0.norm(), 1e-300)) ch.s.w.array() += 2 * t;
+}
+}  // namespace
+
+std::vector<BinConstrainedSolution> ConstrainChannelsToNonNegativeBins(
+    const std::function<Eigen::MatrixXd(int)>& inverse, const Eigen::MatrixXd& W0, const BinRows& A, double tolerance,
+    int max_rounds, int bins_per_round, const Eigen::MatrixXd* given_V0) {
+  const Eigen::Index k = W0.rows(), channels = W0.cols();
+  BRDFSHOT_CHECK(A.cols() == k, "ConstrainToNonNegativeBins: sizes differ");
+  std::vector<ChannelRounds> ch(static_cast<size_t>(channels));
+  for (Eigen::Index c = 0; c < channels; ++c) ch[c].s.w = ch[c].w0 = W0.col(c);
+  if (A.rows() == 0 || k == 0) {
+    std::vector<BinConstrainedSolution> out;
+    for (ChannelRounds& x : ch) x.s.complete = true, out.push_back(x.s);
+    return out;
+  }
+  const Eigen::MatrixXd V0 = given_V0 ? *given_V0 : A.Times(W0);
+  BRDFSHOT_CHECK(V0.rows() == A.rows() && V0.cols() == channels);
+  for (Eigen::Index c = 0; c < channels; ++c) {
+    ChannelRounds& x = ch[c];
+    x.values = V0.col(c);
+    x.threshold = -tolerance * std::max(x.values.maxCoeff(), 1e-300);
+    x.in.assign(static_cast<size_t>(A.rows()), 0);
+    x.Ac.resize(0, k), x.KAt.resize(k, 0), x.Q.resize(0, 0), x.linear.resize(0), x.mu.resize(0);
+  }
+  // Each channel runs its own rounds; the channels still going share each
+  // round's product over the bins, which streams the whole of A and is most
+  // of a round's cost.
+  for (;;) {
+    std::vector<Eigen::Index> going;
+    for (Eigen::Index c = 0; c < channels; ++c) {
+      ChannelRounds& x = ch[c];
+      if (x.done) continue;
+      if (x.s.rounds >= max_rounds) {
+        x.done = true;  // the cap: incomplete
+        continue;
+      }
+      if (!AddBinsAndSolve(
+              x, [&] { return inverse(static_cast<int>(c)); }, A, bins_per_round)) {
+        x.s.complete = x.done = true;  // bins in the set sit at zero up to the dual's rounding
+        continue;
+      }
+      ++x.s.rounds;
+      going.push_back(c);
+    }
+    if (going.empty()) break;
+    Eigen::MatrixXd W(k, static_cast<Eigen::Index>(going.size()));
+    for (size_t j = 0; j < going.size(); ++j) W.col(static_cast<Eigen::Index>(j)) = ch[going[j]].s.w;
+    const Eigen::MatrixXd values = A.Times(W);
+    for (size_t j = 0; j < going.size(); ++j) ch[going[j]].values = values.col(static_cast<Eigen::Index>(j));
+  }
+  std::vector<BinConstrainedSolution> out;
+  for (ChannelRounds& x : ch) {
+    LiftRoundingNegatives(x, A);
+    out.push_back(x.s);
+  }
+  return out;
+}
+
 BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::MatrixXd()>& inverse,
                                                   const Eigen::VectorXd& w0, const BinRows& A, double tolerance,
                                                   int max_rounds, int bins_per_round, const Eigen::VectorXd* given_v0) {
-  const Eigen::Index k = w0.size();
-  BRDFSHOT_CHECK(A.cols() == k, "ConstrainToNonNegativeBins: sizes differ");
-  BinConstrainedSolution s;
-  s.w = w0;
-  if (A.rows() == 0 || k == 0) {
-    s.complete = true;
-    return s;
-  }
-  const Eigen::VectorXd v0 = given_v0 ? *given_v0 : Eigen::VectorXd(A.Times(w0));
-  BRDFSHOT_CHECK(v0.size() == A.rows());
-  const double threshold = -tolerance * std::max(v0.maxCoeff(), 1e-300);
-  std::vector<char> in(A.rows(), 0);  // the bins with a multiplier so far
-  Eigen::VectorXd values = v0;
-  Eigen::MatrixXd K;  // from inverse(), at the first round
-  // The dual over the bins so far, grown by each round's bins instead of
-  // formed again: Q = A_C K A_Cᵀ, its linear term A_C w₀, and the last
-  // round's multipliers, from which the next round's solve starts.
-  Eigen::MatrixXd Ac(0, k), KAt(k, 0), Q(0, 0);
-  Eigen::VectorXd linear(0), mu(0);
-  for (s.rounds = 0; s.rounds < max_rounds; ++s.rounds) {
-    std::vector<int> negative;
-    for (Eigen::Index i = 0; i < values.size(); ++i)
-      if (values[i] < threshold && !in[i]) negative.push_back(static_cast<int>(i));
-    if (negative.empty()) {
-      s.complete = true;  // bins in the set sit at zero up to the dual's rounding
-      break;
-    }
-    const size_t take = std::min<size_t>(negative.size(), static_cast<size_t>(bins_per_round));
-    std::partial_sort(negative.begin(), negative.begin() + take, negative.end(),
-                      [&](int a, int b) { return values[a] < values[b]; });
-    negative.resize(take);
-    for (int i : negative) in[i] = 1;
-    if (K.size() == 0) {
-      K = inverse();
-      BRDFSHOT_CHECK(K.rows() == k && K.cols() == k, "ConstrainToNonNegativeBins: the inverse's size differs");
-    }
-    const Eigen::Index old = Ac.rows(), r = old + static_cast<Eigen::Index>(take);
-    const Eigen::MatrixXd new_rows = A.Rows(negative);
-    const Eigen::MatrixXd new_KAt = K * new_rows.transpose();
-    Ac.conservativeResize(r, Eigen::NoChange);
-    Ac.bottomRows(r - old) = new_rows;
-    KAt.conservativeResize(Eigen::NoChange, r);
-    KAt.rightCols(r - old) = new_KAt;
-    Q.conservativeResize(r, r);
-    Q.rightCols(r - old) = Ac * new_KAt;
-    Q.bottomLeftCorner(r - old, old) = Q.topRightCorner(old, r - old).transpose();
-    linear.conservativeResize(r);
-    linear.tail(r - old) = -(new_rows * w0);
-    mu.conservativeResize(r);
-    mu.tail(r - old).setZero();
-    mu = SolveNonNegative(Q, linear, 1e-10, 0, &mu).x;
-    s.w = w0 + KAt * mu;
-    s.active = static_cast<int>((mu.array() > 0).count());
-    values = A.Times(s.w);  // one column
-  }
-  // The active bins sit at zero only up to the dual's rounding (~1e-11 of
-  // w₀'s scale), which is a visible "negative" wherever the whole fit is near
-  // zero. Tables are non-negative, so adding a multiple of the all-ones
-  // weights raises every bin: the smallest multiple that lifts them all is
-  // of rounding size and changes the fit by as little.
-  double t = 0;
-  for (Eigen::Index i = 0; i < values.size(); ++i)
-    if (values[i] < 0) {
-      const double lift = A.RowSum(i);  // only where a bin is below zero: most fits have none
-      if (lift > 0) t = std::max(t, -values[i] / lift);
-    }
-  if (t > 0 && t * std::sqrt(static_cast<double>(k)) <= 1e-6 * std::max(w0.norm(), 1e-300)) s.w.array() += 2 * t;
-  return s;
+  const Eigen::MatrixXd V0 = given_v0 ? Eigen::MatrixXd(*given_v0) : Eigen::MatrixXd();
+  return ConstrainChannelsToNonNegativeBins([&](int) { return inverse(); }, w0, A, tolerance, max_rounds,
+                                            bins_per_round, given_v0 ? &V0 : nullptr)[0];
 }
 
 }  // namespace brdfshot

@@ -77,6 +77,15 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
                                                   int max_rounds = 30, int bins_per_round = 256,
                                                   const Eigen::VectorXd* v0 = nullptr);
 
+// The same for the channels of one fit (the columns of W0), each with its own
+// multipliers and rounds (inverse(c): channel c's K). The channels still
+// going share each round's product over the bins, one pass over A instead of
+// one per channel; each channel's result is what ConstrainToNonNegativeBins
+// gives it alone.
+std::vector<BinConstrainedSolution> ConstrainChannelsToNonNegativeBins(
+    const std::function<Eigen::MatrixXd(int)>& inverse, const Eigen::MatrixXd& W0, const BinRows& A,
+    double tolerance = 1e-9, int max_rounds = 30, int bins_per_round = 256, const Eigen::MatrixXd* V0 = nullptr);
+
 // A value Σ_i w_i b_i counts as negative below −kNegativeBinTolerance ·
 // Σ_i |w_i b_i|: beyond the float rounding of the sum, at which a bin the
 // constraint holds at zero sits.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <array>
 #include <limits>
 #include <random>
 #include <vector>
@@ -107,6 +108,51 @@ TEST(ConstrainToNonNegativeBins, OppositeBinsPinTheWeightAtZero) {
   const BinConstrainedSolution s = ConstrainToNonNegativeBins([&] { return K; }, w0, A.rows);
   EXPECT_TRUE(s.complete);
   EXPECT_NEAR(s.w[0], 0.0, 1e-12);
+}
+
+TEST(ConstrainChannelsToNonNegativeBins, EachChannelIsWhatItsOwnSolveGives) {
+  // Three channels with their own K, one feasible from the start and two that
+  // take different numbers of rounds (few bins per round): solved together
+  // they share each round's product over the bins, and each must come out
+  // bit for bit as it does alone, with the cap on rounds too.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  const int k = 6, m = 300;
+  Eigen::MatrixXd random(m, k);
+  for (Eigen::Index i = 0; i < random.size(); ++i) random.data()[i] = u(rng);
+  const Table table(random);
+  std::array<Eigen::MatrixXd, 3> K;
+  Eigen::MatrixXd W0(k, 3);
+  for (int c = 0; c < 3; ++c) {
+    Eigen::MatrixXd X(k + 3, k);
+    for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = g(rng);
+    Eigen::MatrixXd H = X.transpose() * X;
+    H.diagonal().array() += 0.1;
+    K[c] = H.inverse();
+    // Channel 0 positive, 1 with one negative weight, 2 with many.
+    for (int i = 0; i < k; ++i) W0(i, c) = c == 2 ? 3 * g(rng) : 1.0 + u(rng);
+    if (c == 1) W0(0, c) = -1.5;
+  }
+  for (const int cap : {30, 2}) {
+    const std::vector<BinConstrainedSolution> together =
+        ConstrainChannelsToNonNegativeBins([&](int c) { return K[c]; }, W0, table.rows, 1e-12, cap, 3);
+    ASSERT_EQ(together.size(), 3u);
+    std::vector<int> rounds;
+    for (int c = 0; c < 3; ++c) {
+      const BinConstrainedSolution alone =
+          ConstrainToNonNegativeBins([&] { return K[c]; }, W0.col(c), table.rows, 1e-12, cap, 3);
+      EXPECT_EQ(together[c].rounds, alone.rounds) << c;
+      EXPECT_EQ(together[c].active, alone.active) << c;
+      EXPECT_EQ(together[c].complete, alone.complete) << c;
+      for (int i = 0; i < k; ++i) EXPECT_EQ(together[c].w[i], alone.w[i]) << c << " " << i;
+      rounds.push_back(alone.rounds);
+    }
+    EXPECT_EQ(rounds[0], 0) << "the first channel is feasible as it is";
+    EXPECT_NE(rounds[1], rounds[2])
+        << "the channels must take different numbers of rounds for the test to mean anything";
+    if (cap == 2) EXPECT_FALSE(together[1].complete && together[2].complete) << "the cap must stop a channel";
+  }
 }
 
 TEST(BinRows, ReadsEveryStrideThRowOfTheMembersInPlace) {

@@ -174,15 +174,14 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
   BRDFSHOT_CHECK(!J.empty() && lambda >= 0);
   const double cj = static_cast<double>(J.size());
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(J.size(), 1.0 / cj);
-  int worst = 0;  // 0 normal, 1 normal-truncated, 2 qr
+  int worst = 0;                   // 0 normal, 1 normal-truncated, 2 qr
   Eigen::MatrixXd W(J.size(), 3);  // the class's weights per channel
   std::array<double, 3> lj{};
   for (int c = 0; c < 3; ++c) {
     lj[c] = lambda * obs.norm2[c] / cj;
     const Eigen::VectorXd& e = cls.e[c];
     const double emax = e.size() ? e[e.size() - 1] : 0, emin = e.size() ? e[0] : 0;
-    const double kappa =
-        emin + lj[c] > 0 ? (emax + lj[c]) / (emin + lj[c]) : std::numeric_limits<double>::infinity();
+    const double kappa = emin + lj[c] > 0 ? (emax + lj[c]) / (emin + lj[c]) : std::numeric_limits<double>::infinity();
     s.condition[c] = std::sqrt(kappa);
     s.lambda_j[c] = lj[c];
     const Eigen::VectorXd zJ = obs.z[c](J);
@@ -211,13 +210,9 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
   if (constraint.kind == WeightConstraint::Kind::kBins) {
     BRDFSHOT_CHECK(constraint.bins && constraint.bins->cols() == static_cast<Eigen::Index>(J.size()),
                    "the constraint's bins must be restricted to the class's members");
-    const Eigen::MatrixXd V0 = constraint.bins->Times(W);  // the three channels in one pass over the bins
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::VectorXd v0 = V0.col(c);
-      W.col(c) = ConstrainToNonNegativeBins([&] { return SpectrumInverse(cls, c, lj[c]); }, W.col(c),
-                                            *constraint.bins, 1e-9, 30, 256, &v0)
-                     .w;
-    }
+    const std::vector<BinConstrainedSolution> constrained =
+        ConstrainChannelsToNonNegativeBins([&](int c) { return SpectrumInverse(cls, c, lj[c]); }, W, *constraint.bins);
+    for (int c = 0; c < 3; ++c) W.col(c) = constrained[c].w;
   }
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd zJ = obs.z[c](J);
