@@ -264,9 +264,9 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
   return row;
 }
 
-Eigen::MatrixXd SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
-                          const Observation& obs, const ClassSpectrum& cls, double lambda,
-                          std::map<int, BinRows>* bins_of_class, int class_index) {
+ClassSolution SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
+                        const Observation& obs, const ClassSpectrum& cls, double lambda,
+                        std::map<int, BinRows>* bins_of_class, int class_index) {
   WeightConstraint constraint;
   constraint.kind = kind;
   BinRows* bins = nullptr;
@@ -280,7 +280,7 @@ Eigen::MatrixXd SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, cons
   ClassSolution s = SolveClass(f, cls, obs, lambda, constraint);
   if (bins && in.table_check)
     KeepNonNegativeOnTable(f, cls, obs, lambda, in.table_check->tables(), in.table_check, bins, &s);
-  return s.weights;
+  return s;
 }
 
 void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& methods, LooRow* rows) {
@@ -383,14 +383,14 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
           fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
           ResolveConditionBound(opt.choice, pixel_noise, auto_classes, obs, in.scenes[a].pixels), &auto_metrics);
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
-      const std::vector<FittedMethod> methods = {
-          {"auto", solve_auto(fa, obs, choice.chosen_class, picked, choice.lambda), choice.chosen_class},
-          {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
-          {"ours", ours.weights(), ours.chosen},
-          {"paper", paper.weights(), paper.chosen},
-          {"lsq", SolveLeastSquares(fa, obs, keep), -1},
-          {"oracle", oracle, -1},
-          {"relit-oracle", RelitOracleWeights(in.scenes, a, keep, m), -1}};
+      const ClassSolution fit = solve_auto(fa, obs, choice.chosen_class, picked, choice.lambda);
+      const std::vector<FittedMethod> methods = {{"auto", fit.weights, choice.chosen_class},
+                                                 {"auto-signed", fit.unconstrained_weights, choice.chosen_class},
+                                                 {"ours", ours.weights(), ours.chosen},
+                                                 {"paper", paper.weights(), paper.chosen},
+                                                 {"lsq", SolveLeastSquares(fa, obs, keep), -1},
+                                                 {"oracle", oracle, -1},
+                                                 {"relit-oracle", RelitOracleWeights(in.scenes, a, keep, m), -1}};
       for (const FittedMethod& meth : methods) {
         LooRow row = MethodRow(meth, in.materials[m], in.scenes[a].probe, choice, opt.lambda);
         ScoreRelit(
@@ -426,7 +426,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const ClassSpectrum& picked = classes[choice.chosen_class];
       const std::string pair = in.scenes[a].probe + "+" + in.scenes[b].probe;
       const std::vector<FittedMethod> methods = {
-          {"auto-joint", solve_auto(js.f, obs, choice.chosen_class, picked, choice.lambda), choice.chosen_class},
+          {"auto-joint", solve_auto(js.f, obs, choice.chosen_class, picked, choice.lambda).weights,
+           choice.chosen_class},
           {"auto-one", auto_weights[a], -1},
           {"auto-one", auto_weights[b], -1}};
       const std::string probes[3] = {pair, in.scenes[a].probe + " (" + pair + ")",

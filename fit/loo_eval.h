@@ -156,9 +156,9 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
 // `bins_of_class` (the sampled bins of in.constraint_sample at first, and
 // every bin in.table_check adds), so the fits of one material under every
 // probe share them.
-Eigen::MatrixXd SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
-                          const Observation& obs, const ClassSpectrum& cls, double lambda,
-                          std::map<int, BinRows>* bins_of_class, int class_index);
+ClassSolution SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
+                        const Observation& obs, const ClassSpectrum& cls, double lambda,
+                        std::map<int, BinRows>* bins_of_class, int class_index);
 
 // Sets rows[i].negative_bins = NegativeBinShare(bins, methods[i].w) for every
 // method, reading the bins once for all of them.

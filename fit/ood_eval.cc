@@ -161,15 +161,12 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
         oracle.col(c) = oracle_inverse[a][c] * rhs;
       }
       const ClassSpectrum& picked = auto_classes[a][choice.chosen_class];
+      const ClassSolution fit =
+          SolveAuto(bases, opt.constraint, fa, obs, picked, choice.lambda, &constraint_bins, choice.chosen_class);
       const std::vector<FittedMethod> methods = {
-          {"auto",
-           SolveAuto(bases, opt.constraint, fa, obs, picked, choice.lambda, &constraint_bins, choice.chosen_class),
-           choice.chosen_class},
-          {"auto-signed", SolveClass(fa, picked, obs, choice.lambda).weights, choice.chosen_class},
-          {"ours", ours.weights(), ours.chosen},
-          {"paper", paper.weights(), paper.chosen},
-          {"lsq", SolveLeastSquares(fa, obs, all), -1},
-          {"relit-oracle", oracle, -1}};
+          {"auto", fit.weights, choice.chosen_class},   {"auto-signed", fit.unconstrained_weights, choice.chosen_class},
+          {"ours", ours.weights(), ours.chosen},        {"paper", paper.weights(), paper.chosen},
+          {"lsq", SolveLeastSquares(fa, obs, all), -1}, {"relit-oracle", oracle, -1}};
       for (const FittedMethod& m : methods) {
         LooRow row = MethodRow(m, targets[t], bases.scenes[a].probe, choice, opt.lambda);
         ScoreRelit(
@@ -214,7 +211,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
           ChooseLambda(js.f, classes, &joint_cv, obs, held, js.pixels,
                        ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels), metrics);
       const Eigen::MatrixXd w = SolveAuto(bases, opt.constraint, js.f, obs, classes[choice.chosen_class], choice.lambda,
-                                          &constraint_bins, choice.chosen_class);
+                                          &constraint_bins, choice.chosen_class)
+                                    .weights;
       const std::string pair = bases.scenes[a].probe + "+" + bases.scenes[b].probe;
       const std::vector<FittedMethod> methods = {
           {"auto-joint", w, choice.chosen_class}, {"auto-one", auto_weights[a], -1}, {"auto-one", auto_weights[b], -1}};

@@ -126,14 +126,18 @@ Eigen::VectorXd SolveRidge(const Eigen::MatrixXd& A, const Eigen::VectorXd& z, d
   aug.bottomRows(k) = std::sqrt(lambda) * Eigen::MatrixXd::Identity(k, k);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m + k);
   rhs.head(m) = z - A * prior;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(aug);
   if (condition) {
     const Eigen::VectorXd s = Eigen::BDCSVD<Eigen::MatrixXd>(A).singularValues();
     const double smax = s.size() ? s[0] : 0, smin = s.size() == k ? s[k - 1] : 0;
     const double den = smin * smin + lambda;
     *condition = den > 0 ? std::sqrt((smax * smax + lambda) / den) : std::numeric_limits<double>::infinity();
   }
-  return prior + cod.solve(rhs);
+  // λ > 0 makes the augmented matrix full rank (its singular values are at
+  // least √λ), so a plain Householder QR, blocked, solves it as accurately as
+  // a rank-revealing one; at λ = 0 the columns may be dependent and the
+  // complete orthogonal decomposition gives the minimum-norm answer.
+  if (lambda > 0) return prior + Eigen::HouseholderQR<Eigen::MatrixXd>(aug).solve(rhs);
+  return prior + Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(aug).solve(rhs);
 }
 
 Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::VectorXd& zJ, double lambda_j) {
@@ -207,6 +211,9 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
       W.col(c) = llt.solve(zJ + lj[c] * prior);
     }
   }
+  s.unconstrained_weights = Eigen::MatrixXd::Zero(n, 3);
+  for (int c = 0; c < 3; ++c)
+    for (size_t k = 0; k < J.size(); ++k) s.unconstrained_weights(J[k], c) = W(static_cast<Eigen::Index>(k), c);
   if (constraint.kind == WeightConstraint::Kind::kBins) {
     BRDFSHOT_CHECK(constraint.bins && constraint.bins->cols() == static_cast<Eigen::Index>(J.size()),
                    "the constraint's bins must be restricted to the class's members");

@@ -102,6 +102,9 @@ struct ClassSolution {
   std::array<double, 3> lambda_j{};   // the weight actually applied per channel
   std::string path;                   // "normal", "qr", "normal-truncated" (worst over channels), or the constraint's
   Eigen::MatrixXd weights;            // n × 3, zero outside the class
+  // n × 3: the same solve without the constraint (`weights` where there is
+  // none), so the signed fit beside a constrained one costs no second solve.
+  Eigen::MatrixXd unconstrained_weights;
 };
 
 struct ClasswiseFit {
@@ -145,7 +148,9 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
 // with e + λ_j below 1e-13 e_max keep the prior).
 Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::VectorXd& zJ, double lambda_j);
 
-// One regularised solve: argmin ‖A w − z‖² + lambda ‖w − prior‖² via COD.
+// One regularised solve: argmin ‖A w − z‖² + lambda ‖w − prior‖², by a QR of
+// [A; √λ I] (λ > 0), or, at λ = 0, its complete orthogonal decomposition: the
+// minimum-norm correction of the prior where A's columns are dependent.
 Eigen::VectorXd SolveRidge(const Eigen::MatrixXd& A, const Eigen::VectorXd& z, double lambda,
                            const Eigen::VectorXd& prior, double* condition = nullptr);
 

@@ -1,8 +1,11 @@
 #include "fit/solver.h"
 
+#include "fit/bin_constraints.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
+#include <cmath>
 #include <random>
 
 namespace brdfshot {
@@ -177,6 +180,47 @@ TEST(Solver, FewerPixelsThanBasesStillSolves) {
   EXPECT_LT(std::sqrt(fit.classes[0].residual), 0.5 * Render(Y, w).norm());
 }
 
+// The ridge solve against the closed form through an independent SVD of A,
+// w = μ + V diag(σ / (σ² + λ)) Uᵀ (z − A μ), on a matrix whose singular values
+// run from 1 to 1e-7 (normal equations would square that to 1e-14), for λ
+// from well above the smallest σ² to far below it; and at λ = 0 on dependent
+// columns, the minimum-norm correction.
+TEST(Solver, SolveRidgeMatchesTheSvdClosedFormOnIllConditionedSystems) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0, 1);
+  const int m = 40, k = 12;
+  Eigen::MatrixXd X(m, k), Z(k, k);
+  for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = g(rng);
+  for (Eigen::Index i = 0; i < Z.size(); ++i) Z.data()[i] = g(rng);
+  const Eigen::MatrixXd U = Eigen::HouseholderQR<Eigen::MatrixXd>(X).householderQ() * Eigen::MatrixXd::Identity(m, k);
+  const Eigen::MatrixXd V = Eigen::HouseholderQR<Eigen::MatrixXd>(Z).householderQ();
+  Eigen::VectorXd sigma(k);
+  for (int i = 0; i < k; ++i) sigma[i] = std::pow(10.0, -7.0 * i / (k - 1));
+  const Eigen::MatrixXd A = U * sigma.asDiagonal() * V.transpose();
+  Eigen::VectorXd z(m), prior(k);
+  for (int i = 0; i < m; ++i) z[i] = g(rng);
+  for (int i = 0; i < k; ++i) prior[i] = g(rng);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  for (const double lambda : {1e-2, 1e-8, 1e-12, 1e-16}) {
+    const Eigen::VectorXd s = svd.singularValues();
+    const Eigen::VectorXd gain = s.cwiseQuotient((s.array().square() + lambda).matrix());
+    const Eigen::VectorXd want =
+        prior + svd.matrixV() * gain.asDiagonal() * svd.matrixU().transpose() * (z - A * prior);
+    const Eigen::VectorXd got = SolveRidge(A, z, lambda, prior);
+    EXPECT_LT((got - want).norm(), 1e-8 * want.norm()) << "lambda " << lambda;
+  }
+  // λ = 0, the last column a copy of the first: the minimum-norm correction
+  // splits the weight evenly between the two.
+  Eigen::MatrixXd D = X.leftCols(4);
+  D.col(3) = D.col(0);
+  const Eigen::VectorXd target = D.leftCols(3) * Eigen::Vector3d(2, -1, 0.5);
+  const Eigen::VectorXd w = SolveRidge(D, target, 0, Eigen::VectorXd::Zero(4));
+  EXPECT_NEAR(w[0], 1.0, 1e-10);
+  EXPECT_NEAR(w[3], 1.0, 1e-10);
+  EXPECT_NEAR(w[1], -1.0, 1e-10);
+  EXPECT_NEAR(w[2], 0.5, 1e-10);
+}
+
 TEST(Solver, NormalEquationsAndQrAgreeOnWellConditionedSystems) {
   const auto Y = Images(500, 30, 11);
   const auto f = FactorBasisImages(Y, true);
@@ -197,6 +241,43 @@ TEST(Solver, NormalEquationsAndQrAgreeOnWellConditionedSystems) {
       const Eigen::VectorXd ne = s.weights.col(c)(J);
       EXPECT_LT((ne - qr).norm(), 1e-6 * qr.norm()) << "lambda " << lambda << " channel " << c;
     }
+  }
+}
+
+// A solve under the bin constraint carries the unconstrained solve beside
+// it, bit for bit what SolveClass gives without the constraint, while its own
+// weights are moved to keep every bin ≥ 0.
+TEST(Solver, AConstrainedSolveCarriesTheUnconstrainedOne) {
+  const auto Y = Images(300, 12, 21);
+  const auto f = FactorBasisImages(Y, true);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> g;
+  Eigen::MatrixXd w = Eigen::MatrixXd::Constant(12, 3, 0.1);
+  w.row(3).setConstant(-0.4);  // a difference of bases, as a material outside the database is
+  Eigen::MatrixXd y = Render(Y, w);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += 0.01 * g(rng);
+  const Observation obs = MakeObservation(f, Y, y);
+  std::vector<int> J(12);
+  for (int j = 0; j < 12; ++j) J[j] = j;
+  const ClassSpectrum cls = FactorClasses(f, {J})[0];
+  // "Tables": positive bins and one column that dominates a few of them.
+  MatrixXfR tables(64, 12);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (Eigen::Index i = 0; i < tables.size(); ++i) tables.data()[i] = u(rng);
+  for (int i = 0; i < 8; ++i) tables(i, 3) = 20;
+  const BinRows bins = BinRows::EveryNth(tables, J, 1);
+  WeightConstraint constraint;
+  constraint.kind = WeightConstraint::Kind::kBins;
+  constraint.bins = &bins;
+  for (const double lambda : {1e-4, 1e-2}) {
+    const ClassSolution free = SolveClass(f, cls, obs, lambda);
+    const ClassSolution held = SolveClass(f, cls, obs, lambda, constraint);
+    ASSERT_EQ(held.unconstrained_weights.rows(), 12);
+    EXPECT_TRUE(held.unconstrained_weights == free.weights) << "lambda " << lambda;
+    EXPECT_TRUE(free.unconstrained_weights == free.weights) << "lambda " << lambda;
+    const Eigen::MatrixXd dense = tables.cast<double>();
+    EXPECT_LT((dense * free.weights).minCoeff(), 0) << "the free fit must go negative for the test to mean anything";
+    EXPECT_GE((dense * held.weights).minCoeff(), -1e-6 * (dense * free.weights).cwiseAbs().maxCoeff());
   }
 }
 
