@@ -24,6 +24,25 @@ double RelativeError(const std::array<const Eigen::MatrixXd*, 3>& g, const Eigen
   return den > 0 ? std::sqrt(std::max(0.0, num) / den) : 0.0;
 }
 
+std::vector<double> RelativeErrors(const std::array<const Eigen::MatrixXd*, 3>& g,
+                                   const std::vector<const Eigen::MatrixXd*>& w, int m) {
+  const Eigen::Index sets = static_cast<Eigen::Index>(w.size());
+  Eigen::VectorXd num = Eigen::VectorXd::Zero(sets);
+  double den = 0;
+  for (int c = 0; c < 3; ++c) {
+    Eigen::MatrixXd D(g[c]->rows(), sets);
+    for (Eigen::Index i = 0; i < sets; ++i) D.col(i) = w[static_cast<size_t>(i)]->col(c);
+    D.row(3 * m + c).array() -= 1.0;
+    const Eigen::MatrixXd GD = *g[c] * D;
+    for (Eigen::Index i = 0; i < sets; ++i) num[i] += D.col(i).dot(GD.col(i));
+    den += (*g[c])(3 * m + c, 3 * m + c);
+  }
+  std::vector<double> out(w.size(), 0.0);
+  for (Eigen::Index i = 0; i < sets; ++i)
+    out[static_cast<size_t>(i)] = den > 0 ? std::sqrt(std::max(0.0, num[i]) / den) : 0.0;
+  return out;
+}
+
 namespace {
 // Projection of channel c of material m onto `keep` in the metric `gcos`:
 // argmin (w − e)ᵀ G (w − e) over w supported on keep ⇒ G_KK w_K = G_K,e.
@@ -391,17 +410,22 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
                                                  {"lsq", SolveLeastSquares(fa, obs, keep), -1},
                                                  {"oracle", oracle, -1},
                                                  {"relit-oracle", RelitOracleWeights(in.scenes, a, keep, m), -1}};
-      for (const FittedMethod& meth : methods) {
+      // relit[b][i]: method i relit under scene b (in-sample under a).
+      std::vector<const Eigen::MatrixXd*> weights;
+      for (const FittedMethod& meth : methods) weights.push_back(&meth.w);
+      std::vector<std::vector<double>> relit(in.scenes.size());
+      for (size_t b = 0; b < in.scenes.size(); ++b) {
+        const auto& f = in.scenes[b].f;
+        relit[b] = RelativeErrors({&f[0].gram, &f[1].gram, &f[2].gram}, weights, m);
+      }
+      const std::vector<double> brdf = RelativeErrors(gcos, weights, m);
+      for (size_t i = 0; i < methods.size(); ++i) {
+        const FittedMethod& meth = methods[i];
         LooRow row = MethodRow(meth, in.materials[m], in.scenes[a].probe, choice, opt.lambda);
         ScoreRelit(
-            in.scenes, a,
-            [&](int b) {
-              const auto& f = in.scenes[b].f;
-              return RelativeError({&f[0].gram, &f[1].gram, &f[2].gram}, meth.w, m);
-            },
-            &row);
-        row.brdf = RelativeError(gcos, meth.w, m);
-        row.insample = RelativeError({&fa[0].gram, &fa[1].gram, &fa[2].gram}, meth.w, m);
+            in.scenes, a, [&](int b) { return relit[static_cast<size_t>(b)][i]; }, &row);
+        row.brdf = brdf[i];
+        row.insample = relit[static_cast<size_t>(a)][i];
         if (row.method == "auto")
           row.prior_sensitivity =
               PriorSensitivity(picked, obs, choice.lambda, in.gram_cos(picked.members, picked.members));

@@ -245,5 +245,10 @@ double SpearmanCorrelation(const std::vector<double>& a, const std::vector<doubl
 // Weighted error of weights `w` (n × 3) against material m under Gram matrices
 // g[c]: sqrt(Σ_c d_cᵀ g_c d_c / Σ_c g_c(3m+c, 3m+c)).
 double RelativeError(const std::array<const Eigen::MatrixXd*, 3>& g, const Eigen::MatrixXd& w, int m);
+// RelativeError of each of several weight sets under the same g: one product
+// of each g_c with all of them, which reads each g_c once instead of once per
+// set (a scene's three Gram matrices are larger than the caches).
+std::vector<double> RelativeErrors(const std::array<const Eigen::MatrixXd*, 3>& g,
+                                   const std::vector<const Eigen::MatrixXd*>& w, int m);
 
 }  // namespace brdfshot

@@ -86,6 +86,13 @@ TEST(RelativeError, IsTheRelativeImageErrorOfTheWeights) {
     }
     EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[i], m), std::sqrt(num / den), 1e-12) << "weight set " << i;
   }
+  // All five at once, each as alone.
+  std::vector<const Eigen::MatrixXd*> all;
+  for (const Eigen::MatrixXd& wi : w) all.push_back(&wi);
+  const std::vector<double> together = RelativeErrors({&G[0], &G[1], &G[2]}, all, m);
+  ASSERT_EQ(together.size(), 5u);
+  for (int i = 0; i < 5; ++i)
+    EXPECT_NEAR(together[i], RelativeError({&G[0], &G[1], &G[2]}, w[i], m), 1e-13) << "weight set " << i;
   EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[0], m), 0, 1e-7);
   EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[2], m), 1, 1e-12);  // no weights: the whole image is missed
   EXPECT_NEAR(RelativeError({&G[0], &G[1], &G[2]}, w[3], m), 1, 1e-12);
@@ -106,7 +113,8 @@ TEST(LeaveOneOut, WithProportionalScenesTheRelitOracleIsLeastSquaresAndTheFloor)
     images.push_back(Ys);
   }
   const LooResult r = RunLeaveOneOut(Inputs(g, images), Options());
-  std::map<std::pair<std::string, std::string>, std::map<std::string, double>> relit;  // (material, probe) → method → error
+  std::map<std::pair<std::string, std::string>, std::map<std::string, double>>
+      relit;  // (material, probe) → method → error
   for (const LooRow& row : r.rows) relit[{row.material, row.probe}][row.method] = row.relit_mean;
   ASSERT_EQ(relit.size(), 5u * 3u);
   for (const auto& [key, by_method] : relit) {
@@ -158,7 +166,10 @@ TEST(JointOfScenes, IsTheGramOfThePhotosStackedByStackPhotos) {
   for (int s = 0; s < 2; ++s) {
     bases[s].geometry = g;
     bases[s].Y = s ? yb : ya;
-    bases[s].header = {{"probe", "p.exr"}, {"probe_name", "p"}, {"database_kind", "standin"}, {"grid", {1, 1, 1}},
+    bases[s].header = {{"probe", "p.exr"},
+                       {"probe_name", "p"},
+                       {"database_kind", "standin"},
+                       {"grid", {1, 1, 1}},
                        {"bases", std::vector<std::string>(n, "b")}};
     photos[s].resize(static_cast<Eigen::Index>(g.size()), 3);
     for (int c = 0; c < 3; ++c) photos[s].col(c) = bases[s].Y[c].col(3 * m + c).cast<double>();
