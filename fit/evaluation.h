@@ -11,6 +11,7 @@
 
 #include "calib/latlong_probe.h"
 #include "fit/database.h"
+#include "fit/lambda_choice.h"
 #include "fit/loo_eval.h"
 #include "fit/transport.h"
 
@@ -21,7 +22,7 @@ struct EvaluationOptions {
   bool directional = true;           // also score under DirectionalScoringProbes()
   int sphere = 64;                   // diameter in pixels
   double margin = 80;                // pixels whose normal is further from the view are dropped (deg)
-  int folds = 6;                     // wedges for the auto method
+  int folds = kDefaultWedges;        // wedges for the auto method
   RenderQuality quality;
   std::string targets_kind, targets_data;  // set b: another database's materials (data root "" = the bases')
   LooOptions loo;
@@ -37,7 +38,7 @@ struct EvaluationOptions {
   bool check_whole_table = false;
   bool count_negative_bins = true;
   std::string class_features = "linear";  // ClassFeaturesHelp()
-  bool lambert_ggx = true;  // the analytic baseline (fit/lambert_ggx.h, default lobes)
+  bool lambert_ggx = true;                // the analytic baseline (fit/lambert_ggx.h, default lobes)
   bool progress = false;
 };
 

@@ -35,6 +35,13 @@
 
 namespace brdfshot {
 
+// The default number of wedges. Fewer, larger wedges hold out more of the
+// sphere's lighting at once; three leave too little to fit a capture's
+// felt or plastic from, twelve relight as six do at twice the
+// factorisation, and five relight sets a, b and c at least as well as six
+// for a sixth less (docs/benchmarks.md, "The number of wedges").
+constexpr int kDefaultWedges = 5;
+
 // Pixel → fold: K wedges of equal angle around the pixels' centroid, so each
 // fold spans the sphere from its centre to its rim.
 std::vector<int> WedgeFolds(const PixelGeometry& g, int folds);

@@ -20,7 +20,7 @@ namespace brdfshot {
 
 struct PhotoFitOptions {
   LambdaChoiceOptions lambda;  // rule "cv" by default; "fixed" with --lambda
-  int folds = 6;               // wedges for cross-validation
+  int folds = kDefaultWedges;  // wedges for cross-validation
   // What the chosen class's solve keeps non-negative; λ and the class are
   // chosen on the unconstrained solve. kBins constrains every
   // constraint_stride-th bin of the tables (a prime, so the sample does not
@@ -81,13 +81,13 @@ struct FitRecord {
   std::string lambda_rule;
   double lambda = 0;
   bool lambda_beyond_condition_bound = false;  // LambdaChoice::beyond_condition_bound
-  std::string weights_constraint = "none";  // ConstraintName of the chosen class's solve
+  std::string weights_constraint = "none";     // ConstraintName of the chosen class's solve
   double predicted_relit_error = 0;
   double prior_sensitivity = -1;  // PhotoFit::prior_sensitivity (-1: not measured)
   // The photo's relative pixel noise and the condition bound the λ search ran
   // under (lambda_choice.h, photo_noise.h); -1: not recorded.
   double relative_noise = -1, condition_bound = -1;
-  double bound_noise = -1;  // PhotoFit::bound_noise; -1: not recorded
+  double bound_noise = -1;         // PhotoFit::bound_noise; -1: not recorded
   double sensitivity_penalty = 0;  // LambdaChoice::sensitivity_penalty (0: the wedges' error alone)
   int chosen_class = -1;
   double relative_residual = 0;

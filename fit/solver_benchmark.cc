@@ -63,7 +63,7 @@ const Problem& TheProblem() {
   return p;
 }
 
-// The photo-independent part of the default fit: 6 wedges, the Gram
+// The photo-independent part of the default fit: the default wedges, the Gram
 // factorisation, the class spectra and the wedges' systems.
 // The candidates are the four classes and every basis, as `fit`'s default;
 // the BRDF metric of the sensitivity penalty is a stand-in of the same size
@@ -77,13 +77,13 @@ struct ChoiceFactors {
 };
 ChoiceFactors FactorForChoice(const Problem& p) {
   ChoiceFactors x;
-  x.fold = WedgeFolds(p.g, 6);
+  x.fold = WedgeFolds(p.g, kDefaultWedges);
   x.f = FactorBasisImages(p.Y, false);
   std::vector<int> all(p.Y[0].cols());
   for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
   const std::vector<std::vector<int>> candidates = CandidateMembers(p.members, all, LambdaChoiceOptions{});
   x.classes = FactorClasses(x.f, candidates);
-  x.cv = FactorFolds(x.f, FoldGrams(p.Y, x.fold, 6), candidates);
+  x.cv = FactorFolds(x.f, FoldGrams(p.Y, x.fold, kDefaultWedges), candidates);
   x.metrics = ClassMetrics(x.f[0].gram, candidates);
   return x;
 }
@@ -133,7 +133,7 @@ void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: no
   const ChoiceFactors x = FactorForChoice(p);
   const auto& [fold, f, classes, cv, metrics] = x;
   for (auto _ : state) {
-    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
+    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, kDefaultWedges);
     const Observation obs = SumObservations(held);
     const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), DefaultBound(p, x, obs), &metrics);
     benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda));
@@ -146,9 +146,9 @@ BENCHMARK(BM_SolveWithLambdaChoice)->Unit(benchmark::kMillisecond)->UseRealTime(
 // classes and λ within the bound then solving the pick.
 void BM_ChoicePartProjectByWedge(benchmark::State& state) {
   const Problem& p = TheProblem();
-  const std::vector<int> fold = WedgeFolds(p.g, 6);
+  const std::vector<int> fold = WedgeFolds(p.g, kDefaultWedges);
   for (auto _ : state) {
-    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
+    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, kDefaultWedges);
     benchmark::DoNotOptimize(SumObservations(held));
   }
 }
@@ -179,7 +179,7 @@ void BM_ChoicePartScoreAndSolve(benchmark::State& state) {
   const Problem& p = TheProblem();
   const ChoiceFactors x = FactorForChoice(p);
   const auto& [fold, f, classes, cv, metrics] = x;
-  const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
+  const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, kDefaultWedges);
   const Observation obs = SumObservations(held);
   const LambdaChoiceOptions opt = DefaultBound(p, x, obs);
   LambdaChoice ch;
@@ -209,7 +209,7 @@ void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
   for (const ClassSpectrum& c : classes) class_bins.push_back(BinRows::EveryNth(tables, c.members, 1));
   int negative_before = 0;
   for (auto _ : state) {
-    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, 6);
+    const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, kDefaultWedges);
     const Observation obs = SumObservations(held);
     const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), DefaultBound(p, x, obs), &metrics);
     WeightConstraint constraint;
