@@ -128,7 +128,7 @@ struct ChannelRounds {
   bool done = false;
 };
 
-// One round of channel `c`: adds the bins below zero that have no multiplier
+// One round of one channel: adds the bins below zero that have no multiplier
 // yet and solves the dual again. False when there are none (the channel is
 // complete).
 bool AddBinsAndSolve(ChannelRounds& ch, const std::function<Eigen::MatrixXd()>& inverse, const BinRows& A,

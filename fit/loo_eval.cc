@@ -283,6 +283,11 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
   return row;
 }
 
+Eigen::MatrixXd SignedWeights(const ClassSolution& fit, const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls,
+                              const Observation& obs, double lambda) {
+  return fit.unconstrained_weights.size() ? fit.unconstrained_weights : SolveClass(f, cls, obs, lambda).weights;
+}
+
 ClassSolution SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
                         const Observation& obs, const ClassSpectrum& cls, double lambda,
                         std::map<int, BinRows>* bins_of_class, int class_index) {
@@ -403,13 +408,14 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
           ResolveConditionBound(opt.choice, pixel_noise, auto_classes, obs, in.scenes[a].pixels), &auto_metrics);
       const ClassSpectrum& picked = auto_classes[choice.chosen_class];
       const ClassSolution fit = solve_auto(fa, obs, choice.chosen_class, picked, choice.lambda);
-      const std::vector<FittedMethod> methods = {{"auto", fit.weights, choice.chosen_class},
-                                                 {"auto-signed", fit.unconstrained_weights, choice.chosen_class},
-                                                 {"ours", ours.weights(), ours.chosen},
-                                                 {"paper", paper.weights(), paper.chosen},
-                                                 {"lsq", SolveLeastSquares(fa, obs, keep), -1},
-                                                 {"oracle", oracle, -1},
-                                                 {"relit-oracle", RelitOracleWeights(in.scenes, a, keep, m), -1}};
+      const std::vector<FittedMethod> methods = {
+          {"auto", fit.weights, choice.chosen_class},
+          {"auto-signed", SignedWeights(fit, fa, picked, obs, choice.lambda), choice.chosen_class},
+          {"ours", ours.weights(), ours.chosen},
+          {"paper", paper.weights(), paper.chosen},
+          {"lsq", SolveLeastSquares(fa, obs, keep), -1},
+          {"oracle", oracle, -1},
+          {"relit-oracle", RelitOracleWeights(in.scenes, a, keep, m), -1}};
       // relit[b][i]: method i relit under scene b (in-sample under a).
       std::vector<const Eigen::MatrixXd*> weights;
       for (const FittedMethod& meth : methods) weights.push_back(&meth.w);

@@ -164,9 +164,12 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       const ClassSolution fit =
           SolveAuto(bases, opt.constraint, fa, obs, picked, choice.lambda, &constraint_bins, choice.chosen_class);
       const std::vector<FittedMethod> methods = {
-          {"auto", fit.weights, choice.chosen_class},   {"auto-signed", fit.unconstrained_weights, choice.chosen_class},
-          {"ours", ours.weights(), ours.chosen},        {"paper", paper.weights(), paper.chosen},
-          {"lsq", SolveLeastSquares(fa, obs, all), -1}, {"relit-oracle", oracle, -1}};
+          {"auto", fit.weights, choice.chosen_class},
+          {"auto-signed", SignedWeights(fit, fa, picked, obs, choice.lambda), choice.chosen_class},
+          {"ours", ours.weights(), ours.chosen},
+          {"paper", paper.weights(), paper.chosen},
+          {"lsq", SolveLeastSquares(fa, obs, all), -1},
+          {"relit-oracle", oracle, -1}};
       for (const FittedMethod& m : methods) {
         LooRow row = MethodRow(m, targets[t], bases.scenes[a].probe, choice, opt.lambda);
         ScoreRelit(

@@ -104,6 +104,8 @@ struct ClassSolution {
   Eigen::MatrixXd weights;            // n × 3, zero outside the class
   // n × 3: the same solve without the constraint (`weights` where there is
   // none), so the signed fit beside a constrained one costs no second solve.
+  // Empty under WeightConstraint::kWeights, whose solve has no unconstrained
+  // step.
   Eigen::MatrixXd unconstrained_weights;
 };
 

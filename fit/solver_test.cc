@@ -278,6 +278,10 @@ TEST(Solver, AConstrainedSolveCarriesTheUnconstrainedOne) {
     const Eigen::MatrixXd dense = tables.cast<double>();
     EXPECT_LT((dense * free.weights).minCoeff(), 0) << "the free fit must go negative for the test to mean anything";
     EXPECT_GE((dense * held.weights).minCoeff(), -1e-6 * (dense * free.weights).cwiseAbs().maxCoeff());
+    // Non-negative weights have no unconstrained step to carry.
+    WeightConstraint weights;
+    weights.kind = WeightConstraint::Kind::kWeights;
+    EXPECT_EQ(SolveClass(f, cls, obs, lambda, weights).unconstrained_weights.size(), 0) << "lambda " << lambda;
   }
 }
 
