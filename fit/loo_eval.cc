@@ -14,14 +14,7 @@
 namespace brdfshot {
 
 double RelativeError(const std::array<const Eigen::MatrixXd*, 3>& g, const Eigen::MatrixXd& w, int m) {
-  double num = 0, den = 0;
-  for (int c = 0; c < 3; ++c) {
-    Eigen::VectorXd d = w.col(c);
-    d[3 * m + c] -= 1.0;
-    num += d.dot(*g[c] * d);
-    den += (*g[c])(3 * m + c, 3 * m + c);
-  }
-  return den > 0 ? std::sqrt(std::max(0.0, num) / den) : 0.0;
+  return RelativeErrors(g, {&w}, m)[0];
 }
 
 std::vector<double> RelativeErrors(const std::array<const Eigen::MatrixXd*, 3>& g,

@@ -152,16 +152,18 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
                  const LambdaChoice& choice, double fixed_lambda);
 
 // The "auto" fit of class `cls` at `lambda` under `kind` (its weights, n × 3,
-// and for kNone and kBins the same solve unconstrained); for kBins, the class's constrained bins are kept per class
-// index in `bins_of_class` (the sampled bins of in.constraint_sample at first, and every bin in.table_check adds), so
-// the fits of one material under every probe share them. "auto-signed": `fit`'s unconstrained weights, solved again
-// only where the constraint (w ≥ 0) has no unconstrained step.
-Eigen::MatrixXd SignedWeights(const ClassSolution& fit, const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls,
-                              const Observation& obs, double lambda);
-
+// and for kNone and kBins the same solve unconstrained); for kBins, the
+// class's constrained bins are kept per class index in `bins_of_class` (the
+// sampled bins of in.constraint_sample at first, and every bin in.table_check
+// adds), so the fits of one material under every probe share them.
 ClassSolution SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
                         const Observation& obs, const ClassSpectrum& cls, double lambda,
                         std::map<int, BinRows>* bins_of_class, int class_index);
+
+// "auto-signed": `fit`'s unconstrained weights, solved again only where the
+// constraint (w ≥ 0) has no unconstrained step.
+Eigen::MatrixXd SignedWeights(const ClassSolution& fit, const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls,
+                              const Observation& obs, double lambda);
 
 // Sets rows[i].negative_bins = NegativeBinShare(bins, methods[i].w) for every
 // method, reading the bins once for all of them.

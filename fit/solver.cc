@@ -213,8 +213,7 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
   }
   if (constraint.kind != WeightConstraint::Kind::kWeights) {
     s.unconstrained_weights = Eigen::MatrixXd::Zero(n, 3);
-    for (int c = 0; c < 3; ++c)
-      for (size_t k = 0; k < J.size(); ++k) s.unconstrained_weights(J[k], c) = W(static_cast<Eigen::Index>(k), c);
+    s.unconstrained_weights(J, Eigen::all) = W;
   }
   if (constraint.kind == WeightConstraint::Kind::kBins) {
     BRDFSHOT_CHECK(constraint.bins && constraint.bins->cols() == static_cast<Eigen::Index>(J.size()),
