@@ -125,7 +125,6 @@ struct ChannelRounds {
   Eigen::MatrixXd Ac, KAt, Q;
   Eigen::VectorXd linear, mu;
   BinConstrainedSolution s;
-  bool done = false;
 };
 
 // One round of one channel: adds the bins below zero that have no multiplier
@@ -212,14 +211,10 @@ std::vector<BinConstrainedSolution> ConstrainChannelsToNonNegativeBins(
     std::vector<Eigen::Index> going;
     for (Eigen::Index c = 0; c < channels; ++c) {
       ChannelRounds& x = ch[c];
-      if (x.done) continue;
-      if (x.s.rounds >= max_rounds) {
-        x.done = true;  // the cap: incomplete
-        continue;
-      }
+      if (x.s.complete || x.s.rounds >= max_rounds) continue;  // done, or at the cap (incomplete)
       if (!AddBinsAndSolve(
               x, [&] { return inverse(static_cast<int>(c)); }, A, bins_per_round)) {
-        x.s.complete = x.done = true;  // bins in the set sit at zero up to the dual's rounding
+        x.s.complete = true;  // bins in the set sit at zero up to the dual's rounding
         continue;
       }
       ++x.s.rounds;
