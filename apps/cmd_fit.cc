@@ -90,13 +90,19 @@ int FitMain(int argc, char** argv) {
   const FitRecord& record = r.record;
   std::printf(
       "%s\nchosen class %d, lambda %g (%s), constraint: %s (%ld bin-channels below zero clamped); predicted relit "
-      "error %.4f (prior sensitivity %.3f); pixel noise %.2e of the photo's RMS, condition bound %.3g; per class (residual, bases, cond):",
+      "error %.4f (prior sensitivity %.3f); pixel noise %.2e of the photo's RMS, condition bound %.3g; per class "
+      "(residual, bases, cond):",
       r.label.c_str(), record.chosen_class, record.lambda, record.lambda_rule.c_str(),
       record.weights_constraint.c_str(), r.clamped, record.predicted_relit_error, record.prior_sensitivity,
       record.relative_noise, record.condition_bound);
   for (size_t k = 0; k < record.classes.size(); ++k)
     std::printf(" [%zu] %.4g, %d, %.3g", k, record.classes[k].residual, record.classes[k].members,
                 record.classes[k].condition);
+  if (record.parts.size() > 1) {
+    std::printf("\nblended:");
+    for (const LambdaChoice::Part& p : record.parts)
+      std::printf(" %.2f x class %d at lambda %g;", p.weight, p.cls, p.lambda);
+  }
   std::printf(
       "\nrelative residual %.4f; solve %.2f ms (after a %.3f s factorisation); whole table checked in %.2f s, "
       "%d bins off the sample constrained\n"

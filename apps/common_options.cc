@@ -110,7 +110,12 @@ void AddConditionBoundOptions(po::options_description& d, LambdaChoiceOptions* c
       ("every-basis-candidate", po::value(&choice->all_bases_candidate)->default_value(choice->all_bases_candidate),
        "1: besides the model's classes, every basis is one more candidate class of the λ choice; 0: the classes only")
       ("sensitivity-penalty", po::value(&choice->sensitivity_penalty)->default_value(choice->sensitivity_penalty),
-       "a: the wedges' error of each candidate is multiplied by (1 + a × its prior sensitivity) (docs/method.md); 0: not");
+       "a: the wedges' error of each candidate is multiplied by (1 + a × its prior sensitivity) (docs/method.md); 0: not")
+      ("blend", po::value(&choice->blend_every_basis)->default_value(choice->blend_every_basis),
+       "1: with the penalty and the every-basis candidate, the fit blends the best class and every basis, each at its "
+       "own λ, weighted by 1 / penalised score (docs/method.md); 0: the pick alone")
+      ("min-blend-weight", po::value(&choice->min_blend_weight)->default_value(choice->min_blend_weight),
+       "with --blend 1: the lesser part is left out below this weight (0: always blended)");
   // clang-format on
 }
 
@@ -119,6 +124,8 @@ void CheckConditionBound(const LambdaChoiceOptions& choice) {
     throw Error("--max-condition must be 0 (from the photo's noise) or at least 1");
   if (!(choice.noise_bound.margin > 0 && std::isfinite(choice.noise_bound.margin)))
     throw Error("--noise-margin must be positive");
+  if (!(choice.min_blend_weight >= 0 && choice.min_blend_weight <= 0.5))
+    throw Error("--min-blend-weight must lie in [0, 0.5]");
   if (!(choice.sensitivity_penalty >= 0 && std::isfinite(choice.sensitivity_penalty)))
     throw Error("--sensitivity-penalty must be finite and ≥ 0");
   if (!(choice.noise_bound.max_bound >= 1 && std::isfinite(choice.noise_bound.max_bound)))

@@ -26,7 +26,14 @@ BinRows BinRows::AllRows(const MatrixXfR& tables, const std::vector<int>& member
   BinRows b;
   b.source_ = &tables;
   b.members_ = members;
+  b.AddRowNorms(0);
   return b;
+}
+
+void BinRows::AddRowNorms(Eigen::Index from) {
+  const MatrixXfR& a = source_ ? *source_ : a_;
+  norms_.conservativeResize(a.rows());
+  for (Eigen::Index i = from; i < a.rows(); ++i) norms_[i] = a.row(i).cast<double>().norm();
 }
 
 void BinRows::Append(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& table_rows) {
@@ -42,9 +49,16 @@ void BinRows::Append(const MatrixXfR& tables, const std::vector<int>& members, c
     float* out = a_.row(old + static_cast<Eigen::Index>(i)).data();
     for (Eigen::Index j = 0; j < k; ++j) out[j] = row[members[j]];
   }
+  AddRowNorms(old);
 }
 
 Eigen::MatrixXd BinRows::Times(const Eigen::MatrixXd& w) const {
+  std::vector<int> every(static_cast<size_t>(rows()));
+  for (size_t i = 0; i < every.size(); ++i) every[i] = static_cast<int>(i);
+  return TimesRows(w, every);
+}
+
+Eigen::MatrixXd BinRows::TimesRows(const Eigen::MatrixXd& w, const std::vector<int>& which) const {
   BRDFSHOT_CHECK(w.rows() == cols());
   const MatrixXfR& a = source_ ? *source_ : a_;
   // Each column of w contiguous, for the dot products; in place, spread over
@@ -56,11 +70,12 @@ Eigen::MatrixXd BinRows::Times(const Eigen::MatrixXd& w) const {
   } else {
     wt = w.transpose();
   }
-  Eigen::MatrixXd out(rows(), w.cols());
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(which.size()), w.cols());
   Eigen::RowVectorXd row(a.cols());
-  for (Eigen::Index i = 0; i < rows(); ++i) {
-    row = a.row(i).cast<double>();
-    for (Eigen::Index j = 0; j < w.cols(); ++j) out(i, j) = row.dot(wt.row(j));
+  for (size_t r = 0; r < which.size(); ++r) {
+    BRDFSHOT_CHECK(which[r] >= 0 && which[r] < rows(), "BinRows: row out of range");
+    row = a.row(which[r]).cast<double>();
+    for (Eigen::Index j = 0; j < w.cols(); ++j) out(static_cast<Eigen::Index>(r), j) = row.dot(wt.row(j));
   }
   return out;
 }
@@ -113,26 +128,55 @@ std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& m
 }
 
 namespace {
-// One channel's cutting-plane state: the dual over the bins so far, grown by
-// each round's bins instead of formed again (Q = A_C K A_Cᵀ, its linear term
-// A_C w₀, and the last round's multipliers, from which the next round's solve
-// starts).
+// One channel's cutting-plane state: the dual over its bins, grown by each
+// round's bins and shrunk by the bins left without a multiplier instead of
+// formed again (Q = A_C K A_Cᵀ, its linear term A_C w₀, and the last round's
+// multipliers, from which the next round's solve starts).
 struct ChannelRounds {
-  Eigen::VectorXd w0, values;
+  Eigen::VectorXd w0, values;  // values: A w at w_values, or a lower bound of it that is at least zero
+  Eigen::VectorXd w_values;
   double threshold = 0;
-  std::vector<char> in;  // the bins with a multiplier so far
-  Eigen::MatrixXd K;     // from inverse(), at the first round
-  Eigen::MatrixXd Ac, KAt, Q;
+  std::vector<char> in;         // the bins in the dual
+  std::vector<int> bins;        // the dual's bins, in its order
+  Eigen::MatrixXd K;            // from inverse(), at the first round
+  Eigen::MatrixXd AcT, KAt, Q;  // AcT: the bins' rows as columns (k × r), so that they grow without a copy
   Eigen::VectorXd linear, mu;
   BinConstrainedSolution s;
 };
 
-// One round of one channel: adds the bins below zero that have no multiplier
-// yet and solves the dual again. False when there are none (the channel is
-// complete).
+// Bins whose multiplier is zero leave the dual before a round adds its own:
+// w is still optimal without them (its KKT conditions hold), and every
+// round's bins, each below zero at w, raise the dual's optimum, so no set of
+// bins recurs and the rounds still end. The dual then stays near the size of
+// the active set (tens of bins) instead of growing by a round's bins each
+// time (hundreds), which is most of a large class's cost. A dropped bin that
+// falls below zero again comes back like any other.
+void DropInactiveBins(ChannelRounds& ch) {
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index i = 0; i < ch.mu.size(); ++i) {
+    if (ch.mu[i] > 0)
+      keep.push_back(i);
+    else
+      ch.in[static_cast<size_t>(ch.bins[static_cast<size_t>(i)])] = 0;
+  }
+  if (keep.size() == static_cast<size_t>(ch.mu.size())) return;
+  ch.AcT = Eigen::MatrixXd(ch.AcT(Eigen::all, keep));
+  ch.KAt = Eigen::MatrixXd(ch.KAt(Eigen::all, keep));
+  ch.Q = Eigen::MatrixXd(ch.Q(keep, keep));
+  ch.linear = Eigen::VectorXd(ch.linear(keep));
+  ch.mu = Eigen::VectorXd(ch.mu(keep));
+  std::vector<int> bins;
+  for (Eigen::Index i : keep) bins.push_back(ch.bins[static_cast<size_t>(i)]);
+  ch.bins = std::move(bins);
+}
+
+// One round of one channel: drops the bins without a multiplier, adds the
+// bins below zero that are not in the dual and solves it again. False when
+// there are none (the channel is complete).
 bool AddBinsAndSolve(ChannelRounds& ch, const std::function<Eigen::MatrixXd()>& inverse, const BinRows& A,
                      int bins_per_round) {
   const Eigen::Index k = ch.w0.size();
+  DropInactiveBins(ch);
   std::vector<int> negative;
   for (Eigen::Index i = 0; i < ch.values.size(); ++i)
     if (ch.values[i] < ch.threshold && !ch.in[i]) negative.push_back(static_cast<int>(i));
@@ -142,19 +186,20 @@ bool AddBinsAndSolve(ChannelRounds& ch, const std::function<Eigen::MatrixXd()>& 
                     [&](int a, int b) { return ch.values[a] < ch.values[b]; });
   negative.resize(take);
   for (int i : negative) ch.in[i] = 1;
+  ch.bins.insert(ch.bins.end(), negative.begin(), negative.end());
   if (ch.K.size() == 0) {
     ch.K = inverse();
     BRDFSHOT_CHECK(ch.K.rows() == k && ch.K.cols() == k, "ConstrainToNonNegativeBins: the inverse's size differs");
   }
-  const Eigen::Index old = ch.Ac.rows(), r = old + static_cast<Eigen::Index>(take);
+  const Eigen::Index old = ch.AcT.cols(), r = old + static_cast<Eigen::Index>(take);
   const Eigen::MatrixXd new_rows = A.Rows(negative);
   const Eigen::MatrixXd new_KAt = ch.K * new_rows.transpose();
-  ch.Ac.conservativeResize(r, Eigen::NoChange);
-  ch.Ac.bottomRows(r - old) = new_rows;
+  ch.AcT.conservativeResize(Eigen::NoChange, r);
+  ch.AcT.rightCols(r - old) = new_rows.transpose();
   ch.KAt.conservativeResize(Eigen::NoChange, r);
   ch.KAt.rightCols(r - old) = new_KAt;
   ch.Q.conservativeResize(r, r);
-  ch.Q.rightCols(r - old) = ch.Ac * new_KAt;
+  ch.Q.rightCols(r - old).noalias() = ch.AcT.transpose() * new_KAt;
   ch.Q.bottomLeftCorner(r - old, old) = ch.Q.topRightCorner(old, r - old).transpose();
   ch.linear.conservativeResize(r);
   ch.linear.tail(r - old) = -(new_rows * ch.w0);
@@ -200,13 +245,14 @@ std::vector<BinConstrainedSolution> ConstrainChannelsToNonNegativeBins(
   for (Eigen::Index c = 0; c < channels; ++c) {
     ChannelRounds& x = ch[c];
     x.values = V0.col(c);
+    x.w_values = x.w0;
     x.threshold = -tolerance * std::max(x.values.maxCoeff(), 1e-300);
     x.in.assign(static_cast<size_t>(A.rows()), 0);
-    x.Ac.resize(0, k), x.KAt.resize(k, 0), x.Q.resize(0, 0), x.linear.resize(0), x.mu.resize(0);
+    x.AcT.resize(k, 0), x.KAt.resize(k, 0), x.Q.resize(0, 0), x.linear.resize(0), x.mu.resize(0);
   }
   // Each channel runs its own rounds; the channels still going share each
-  // round's product over the bins, which streams the whole of A and is most
-  // of a round's cost.
+  // round's product over the bins, which streams the rows of A it reads and is
+  // most of a round's cost.
   for (;;) {
     std::vector<Eigen::Index> going;
     for (Eigen::Index c = 0; c < channels; ++c) {
@@ -221,10 +267,33 @@ std::vector<BinConstrainedSolution> ConstrainChannelsToNonNegativeBins(
       going.push_back(c);
     }
     if (going.empty()) break;
+    // Each going channel's step since its values were computed; a bin whose
+    // value, less norm × step, stays at or above zero can not have crossed
+    // zero (Cauchy–Schwarz) and keeps that lower bound; only the others are
+    // computed again, and a round reads only their rows of A.
     Eigen::MatrixXd W(k, static_cast<Eigen::Index>(going.size()));
-    for (size_t j = 0; j < going.size(); ++j) W.col(static_cast<Eigen::Index>(j)) = ch[going[j]].s.w;
-    const Eigen::MatrixXd values = A.Times(W);
-    for (size_t j = 0; j < going.size(); ++j) ch[going[j]].values = values.col(static_cast<Eigen::Index>(j));
+    std::vector<double> step(going.size());
+    for (size_t j = 0; j < going.size(); ++j) {
+      ChannelRounds& x = ch[going[j]];
+      W.col(static_cast<Eigen::Index>(j)) = x.s.w;
+      // Rounding of the products below stays far inside this margin.
+      step[j] = (x.s.w - x.w_values).norm() * (1 + 1e-9);
+      x.w_values = x.s.w;
+    }
+    const Eigen::VectorXd& norms = A.RowNorms();
+    std::vector<int> near;
+    for (Eigen::Index i = 0; i < A.rows(); ++i) {
+      bool is_near = false;
+      for (size_t j = 0; j < going.size() && !is_near; ++j) is_near = ch[going[j]].values[i] < norms[i] * step[j];
+      if (is_near)
+        near.push_back(static_cast<int>(i));
+      else
+        for (size_t j = 0; j < going.size(); ++j) ch[going[j]].values[i] -= norms[i] * step[j];
+    }
+    const Eigen::MatrixXd values = A.TimesRows(W, near);
+    for (size_t j = 0; j < going.size(); ++j)
+      for (size_t r = 0; r < near.size(); ++r)
+        ch[going[j]].values[near[r]] = values(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(j));
   }
   std::vector<BinConstrainedSolution> out;
   for (ChannelRounds& x : ch) {

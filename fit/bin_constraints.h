@@ -13,8 +13,8 @@
 // with w₀ the unconstrained solution and K = H⁺. Only the bins that go
 // negative ever get a multiplier, so the bins are added in rounds (a cutting
 // plane): solve, find the bins below zero, add them, solve the dual again.
-// The dual's size is the number of bins that ever went negative, not the
-// table's; every other bin costs one product per round.
+// The dual holds the bins with a multiplier and the latest round's, not the
+// table's; every other bin costs at most one product per round.
 #pragma once
 
 #include <Eigen/Core>
@@ -55,14 +55,21 @@ class BinRows {
   Eigen::Index rows() const { return source_ ? source_->rows() : a_.rows(); }
   Eigen::Index cols() const { return source_ ? static_cast<Eigen::Index>(members_.size()) : a_.cols(); }
   bool in_place() const { return source_ != nullptr; }
-  Eigen::MatrixXd Times(const Eigen::MatrixXd& w) const;      // A w, for every column of w
+  Eigen::MatrixXd Times(const Eigen::MatrixXd& w) const;  // A w, for every column of w
+  // A(which, :) w: the same products as Times's at those rows.
+  Eigen::MatrixXd TimesRows(const Eigen::MatrixXd& w, const std::vector<int>& which) const;
   Eigen::MatrixXd Rows(const std::vector<int>& which) const;  // A(which, :)
+  // An upper bound of each row's Euclidean norm over the members (in place:
+  // over the whole table row), for |A(i, :) d| ≤ norm_i ‖d‖.
+  const Eigen::VectorXd& RowNorms() const { return norms_; }
   double RowSum(Eigen::Index i) const;
   void Append(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& table_rows);
 
  private:
-  MatrixXfR a_;                        // the rows, copied over the members
-  const MatrixXfR* source_ = nullptr;  // or, in place: every row of *source_ over members_
+  void AddRowNorms(Eigen::Index from);  // norms_ of rows from `from` on
+  MatrixXfR a_;                         // the rows, copied over the members
+  Eigen::VectorXd norms_;               // RowNorms
+  const MatrixXfR* source_ = nullptr;   // or, in place: every row of *source_ over members_
   std::vector<int> members_;
 };
 
@@ -81,7 +88,10 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
 // multipliers and rounds (inverse(c): channel c's K). The channels still
 // going share each round's product over the bins, one pass over A instead of
 // one per channel; each channel's result is what ConstrainToNonNegativeBins
-// gives it alone.
+// gives it alone. A round computes A w again only at the bins whose last
+// value, less norm_i ‖Δw‖, could be below zero (RowNorms); the others keep
+// that lower bound, which is never below zero, so the bins found negative —
+// and so the rounds and the result — are those of every bin computed.
 std::vector<BinConstrainedSolution> ConstrainChannelsToNonNegativeBins(
     const std::function<Eigen::MatrixXd(int)>& inverse, const Eigen::MatrixXd& W0, const BinRows& A,
     double tolerance = 1e-9, int max_rounds = 30, int bins_per_round = 256, const Eigen::MatrixXd* V0 = nullptr);

@@ -8,6 +8,8 @@
 #include <random>
 #include <vector>
 
+#include "fit/nonneg.h"
+
 namespace brdfshot {
 namespace {
 
@@ -152,6 +154,71 @@ TEST(ConstrainChannelsToNonNegativeBins, EachChannelIsWhatItsOwnSolveGives) {
     EXPECT_NE(rounds[1], rounds[2])
         << "the channels must take different numbers of rounds for the test to mean anything";
     if (cap == 2) EXPECT_FALSE(together[1].complete && together[2].complete) << "the cap must stop a channel";
+  }
+}
+
+TEST(ConstrainToNonNegativeBins, ManyRoundsOfFewBinsReachTheDualOfEveryBin) {
+  // Two bins a round over 2000 bins: many rounds, bins leaving the dual and
+  // coming back, and most of each round's products skipped by their bound.
+  // The optimum is the one dual over every bin at once gives.
+  std::mt19937 rng(17);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  const int k = 12, m = 2000;
+  // Each bin mostly two bases (a faint floor of the others), so the bins
+  // below zero are many and unlike: fixing two leaves the rest negative.
+  std::uniform_int_distribution<int> pick(0, k - 1);
+  Eigen::MatrixXd random = Eigen::MatrixXd::Constant(m, k, 1e-3);
+  for (int i = 0; i < m; ++i) random(i, pick(rng)) += u(rng), random(i, pick(rng)) += u(rng);
+  const Table table(random);
+  const Eigen::MatrixXd A = table.dense();
+  Eigen::MatrixXd X(k + 5, k);
+  for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = g(rng);
+  Eigen::MatrixXd H = X.transpose() * X;
+  H.diagonal().array() += 0.05;
+  const Eigen::MatrixXd K = H.inverse();
+  Eigen::VectorXd w0(k);
+  for (int i = 0; i < k; ++i) w0[i] = 1 + g(rng);
+  w0[0] = -2, w0[1] = -1, w0[2] = -0.5, w0[3] = -1.5;
+  ASSERT_LT((A * w0).minCoeff(), 0) << "the start must go negative";
+  const BinConstrainedSolution s = ConstrainToNonNegativeBins([&] { return K; }, w0, table.rows, 1e-12, 1000, 2);
+  ASSERT_TRUE(s.complete);
+  EXPECT_GT(s.rounds, 5) << "the test needs many rounds to mean anything";
+  const Eigen::VectorXd mu = SolveNonNegative(A * K * A.transpose(), -(A * w0), 1e-14).x;
+  const Eigen::VectorXd w = w0 + K * A.transpose() * mu;
+  const Eigen::VectorXd b = H * w0;
+  EXPECT_NEAR(Objective(H, b, s.w), Objective(H, b, w), 1e-9 * std::abs(Objective(H, b, w)));
+  EXPECT_LT((s.w - w).norm(), 1e-6 * w.norm());
+  EXPECT_GE((A * s.w).minCoeff(), -1e-9 * (A * w0).cwiseAbs().maxCoeff());
+}
+
+TEST(BinRows, RowNormsBoundEveryRowsProductAndTimesRowsIsTimesAtThoseRows) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  MatrixXfR tables(30, 10);
+  for (Eigen::Index i = 0; i < tables.size(); ++i) tables.data()[i] = u(rng);
+  for (const std::vector<int>& members : {std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8}, std::vector<int>{1, 4, 6}}) {
+    BinRows A = BinRows::AllRows(tables, members);
+    A.Append(tables, members, {3});  // a copy, with one more row
+    for (const bool in_place : {true, false}) {
+      const BinRows& B = in_place ? BinRows::AllRows(tables, members) : A;
+      const Eigen::MatrixXd dense = B.Rows([&] {
+        std::vector<int> all(static_cast<size_t>(B.rows()));
+        for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+        return all;
+      }());
+      Eigen::MatrixXd d = Eigen::MatrixXd::Random(static_cast<Eigen::Index>(members.size()), 2);
+      const Eigen::MatrixXd Ad = dense * d;
+      ASSERT_EQ(B.RowNorms().size(), B.rows());
+      for (Eigen::Index i = 0; i < B.rows(); ++i) {
+        EXPECT_GE(B.RowNorms()[i], dense.row(i).norm() * (1 - 1e-6));
+        for (int c = 0; c < 2; ++c) EXPECT_LE(std::abs(Ad(i, c)), B.RowNorms()[i] * d.col(c).norm() * (1 + 1e-6));
+      }
+      const std::vector<int> which = {B.rows() - 1, 0, 7, 7};
+      const Eigen::MatrixXd all = B.Times(d), some = B.TimesRows(d, which);
+      for (size_t r = 0; r < which.size(); ++r)
+        EXPECT_EQ(some.row(static_cast<Eigen::Index>(r)), all.row(which[r])) << r;
+    }
   }
 }
 

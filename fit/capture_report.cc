@@ -124,6 +124,15 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
   }
 
   // The fit: class, residual per class, reconstruction.
+  const auto BlendLine = [](const FitRecord& f) {
+    if (f.parts.size() < 2) return std::string();
+    std::string line = "\n- blended: ";
+    for (size_t i = 0; i < f.parts.size(); ++i) {
+      const LambdaChoice::Part& p = f.parts[i];
+      line += (i ? " + " : "") + Fixed(p.weight, 2) + " × class " + std::to_string(p.cls) + " at λ = " + Sci(p.lambda);
+    }
+    return line + " (the class and every basis scored alike on the wedges)";
+  };
   const fs::path fit_json = r / "fit" / "fit.json";
   if (fs::exists(fit_json)) {
     const FitRecord f = FitRecord::Read(fit_json.string());
@@ -145,8 +154,8 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
                      ": λ searched within the condition bound " + Sci(f.condition_bound) +
                      " (a noisier photo is trusted less far)"
                : std::string())
-       << "\n- chosen class **" << f.chosen_class << "**, relative residual " << f.relative_residual << "\n- BRDF: `"
-       << rel(r / "fit" / "brdf.binary") << "` (MERL format), weights `" << rel(fit_json) << "`\n";
+       << "\n- chosen class **" << f.chosen_class << "**, relative residual " << f.relative_residual << BlendLine(f)
+       << "\n- BRDF: `" << rel(r / "fit" / "brdf.binary") << "` (MERL format), weights `" << rel(fit_json) << "`\n";
     if (f.lambert_ggx) {
       const LambertGgxFit& g = *f.lambert_ggx;
       md << "- analytic baseline (Lambert + GGX on the same pixels, `lambert_ggx` in fit.json): relative residual "

@@ -80,18 +80,21 @@ TEST(CaptureReport, TheFitSectionStatesThePhotosNoiseAndTheConditionBound) {
   FitRecord f;
   f.database = "db", f.database_kind = "standin", f.grid = MerlGrid{2, 2, 4}, f.probe = "p.exr", f.photo = "x.exr";
   f.lambda_rule = "cv", f.lambda = 0.01, f.chosen_class = 0, f.relative_residual = 0.02;
-  f.classes = {{3, 1.0, 10, "normal"}};
+  f.classes = {{3, 1.0, 10, "normal"}, {3, 0.5, 100, "normal"}};
   f.lambda_grid = {0.01};
-  f.lambda_scores = {{1.0}};
+  f.lambda_scores = {{1.0}, {2.0}};
   f.bases = {"a/R", "a/G", "a/B"};
   f.weights = Eigen::MatrixXd::Identity(3, 3);
   f.relative_noise = 0.0049, f.condition_bound = 1.5e6;
+  f.parts = {{0, 0.01, 0.75, 0.03}, {1, 1e-4, 0.25, 0.04}};
   f.Write((r / "fit" / "fit.json").string());
   CaptureReportOptions o;
   o.results = r.string();
   const std::string md = Slurp(WriteCaptureReport(o).page);
   EXPECT_NE(md.find("pixel noise 0.0049 of its RMS: λ searched within the condition bound 1.5e+06"), std::string::npos)
       << md;
+  EXPECT_NE(md.find("blended: 0.75 × class 0 at λ = "), std::string::npos) << md;
+  EXPECT_NE(md.find(" + 0.25 × class 1 at λ = "), std::string::npos) << md;
   fs::remove_all(r);
 }
 

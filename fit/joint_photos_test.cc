@@ -60,9 +60,9 @@ TEST(JointPhotos, TwoPhotosDetermineWhatNeitherDoesAlone) {
   const PhotoFit joint = FitPhoto(j.basis, model, j.y, opt, nullptr, &j.fold_of_pixel);
   const PhotoFit only_a = FitPhoto(a, model, ya, opt), only_b = FitPhoto(b, model, yb, opt);
   const Eigen::MatrixXd truth_c = Render(c, w);
-  const double e_joint = RelativeRmse(Render(c, joint.fit.weights()), truth_c);
-  const double e_a = RelativeRmse(Render(c, only_a.fit.weights()), truth_c);
-  const double e_b = RelativeRmse(Render(c, only_b.fit.weights()), truth_c);
+  const double e_joint = RelativeRmse(Render(c, joint.weights), truth_c);
+  const double e_a = RelativeRmse(Render(c, only_a.weights), truth_c);
+  const double e_b = RelativeRmse(Render(c, only_b.weights), truth_c);
   EXPECT_LT(e_joint, 1e-4);
   EXPECT_GT(e_a, 100 * e_joint + 1e-3) << "one photo under A leaves bases 0 and 1 apart undetermined";
   EXPECT_GT(e_b, 100 * e_joint + 1e-3);

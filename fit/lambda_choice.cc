@@ -1,6 +1,7 @@
 #include "fit/lambda_choice.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -229,6 +230,14 @@ std::vector<double> ResidualScores(const ClassSpectrum& cls, const Observation& 
     for (const ChannelResidual& r : curve[l]) score[l] += r.rss;
   return score;
 }
+
+// The sensitivity the penalty computed for class j at grid value `lambda`; NaN where it did not.
+double SensitivityAt(const LambdaChoice& c, int j, double lambda) {
+  if (c.sensitivity.empty()) return std::nan("");
+  for (size_t l = 0; l < c.grid.size(); ++l)
+    if (c.grid[l] == lambda) return c.sensitivity.at(j).at(l);
+  return std::nan("");
+}
 }  // namespace
 
 std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int>>& classes,
@@ -262,6 +271,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
       predicted = s[0];
     }
     out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
+    out.parts = {{out.chosen_class, out.lambda, 1.0, out.predicted_error}};
     return out;
   }
   BRDFSHOT_CHECK(opt.rule == "cv" || opt.rule == "gcv" || opt.rule == "residual", "unknown λ rule " << opt.rule);
@@ -318,11 +328,21 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     for (size_t l = 0; l < opt.grid.size(); ++l)
       if (!within[j][l]) out.score[j][l] = inf;
   double best = inf;
+  // With the blend, the part of the other group: its raw held-out score
+  // (+inf: none), class and λ.
+  double other_best = inf;
+  int other_class = -1;
+  double other_lambda = 0, chosen_penalised = inf, other_penalised = inf;
   if (opt.rule == "cv" && opt.sensitivity_penalty > 0 && metrics) {
     BRDFSHOT_CHECK(metrics->size() == classes.size(), "one BRDF metric per class");
-    // Candidates in order of held-out error: the factor (1 + a s)² is at least
-    // 1, so once a candidate's error alone is no better than the best
-    // penalised score, no later one can win.
+    // Group 1 is every basis (the last candidate) where the blend asks for
+    // it, group 0 the model's classes; each keeps its best penalised
+    // candidate. Candidates in order of held-out error: the factor (1 + a s)²
+    // is at least 1, so once a candidate's error alone is no better than its
+    // group's best penalised score, no later one of that group can win.
+    const bool blend = opt.blend_every_basis && opt.all_bases_candidate && classes.size() >= 2;
+    const size_t every = classes.size() - 1;
+    const int groups = blend ? 2 : 1;
     std::vector<std::pair<double, std::pair<size_t, size_t>>> order;
     for (size_t j = 0; j < classes.size(); ++j)
       for (size_t l = 0; l < opt.grid.size(); ++l)
@@ -330,16 +350,28 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     std::sort(order.begin(), order.end());
     out.sensitivity.assign(classes.size(), std::vector<double>(opt.grid.size(), std::nan("")));
     out.sensitivity_penalty = opt.sensitivity_penalty;
-    double best_penalised = inf;
+    std::array<double, 2> penalised_of{inf, inf}, score_of{inf, inf};
+    std::array<size_t, 2> class_of{0, 0}, lambda_of{0, 0};
     for (const auto& [score, at] : order) {
-      if (score >= best_penalised) break;
+      if (score >= *std::max_element(penalised_of.begin(), penalised_of.begin() + groups)) break;
       const auto [j, l] = at;
+      const int g = blend && j == every ? 1 : 0;
+      if (score >= penalised_of[g]) continue;
       const double s = PriorSensitivity(classes[j], obs, opt.grid[l], (*metrics)[j]);
       out.sensitivity[j][l] = s;
       const double factor = 1 + opt.sensitivity_penalty * s;
       const double penalised = score * factor * factor;
-      if (penalised < best_penalised)
-        best_penalised = penalised, best = score, out.chosen_class = static_cast<int>(j), out.lambda = opt.grid[l];
+      if (penalised < penalised_of[g])
+        penalised_of[g] = penalised, score_of[g] = score, class_of[g] = j, lambda_of[g] = l;
+    }
+    const int won = penalised_of[1] < penalised_of[0] ? 1 : 0;
+    if (penalised_of[won] < inf) {
+      best = score_of[won], chosen_penalised = penalised_of[won];
+      out.chosen_class = static_cast<int>(class_of[won]), out.lambda = opt.grid[lambda_of[won]];
+    }
+    if (blend && penalised_of[1 - won] < inf) {
+      other_best = score_of[1 - won], other_penalised = penalised_of[1 - won];
+      other_class = static_cast<int>(class_of[1 - won]), other_lambda = opt.grid[lambda_of[1 - won]];
     }
   } else {
     for (size_t j = 0; j < classes.size(); ++j)
@@ -385,6 +417,20 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     }
   }
   out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
+  out.parts = {
+      {out.chosen_class, out.lambda, 1.0, out.predicted_error, SensitivityAt(out, out.chosen_class, out.lambda)}};
+  // Weights ∝ 1 / penalised score: inverse-variance weights, each score read
+  // as its part's squared error; written so that a zero score (a photo the
+  // part fits exactly) takes the whole weight.
+  if (other_class >= 0 && chosen_penalised > 0 &&
+      chosen_penalised / (chosen_penalised + other_penalised) >= opt.min_blend_weight) {
+    LambdaChoice::Part other{other_class, other_lambda, 0, std::sqrt(other_best / std::max(total, 1e-300)),
+                             SensitivityAt(out, other_class, other_lambda)};
+    other.weight = chosen_penalised / (chosen_penalised + other_penalised);
+    out.parts[0].weight = 1 - other.weight;
+    out.parts.push_back(other);
+    out.predicted_error = out.parts[0].weight * out.parts[0].predicted_error + other.weight * other.predicted_error;
+  }
   return out;
 }
 

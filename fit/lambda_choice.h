@@ -26,6 +26,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -111,6 +112,20 @@ struct LambdaChoiceOptions {
   // sensitivity sees how much of the BRDF the prior, not the photo, decides,
   // which is what another lighting shows (docs/method.md).
   double sensitivity_penalty = 1;
+  // Rule cv with the penalty and every basis a candidate: the fit blends the
+  // best model class and every basis, each at its own best penalised λ,
+  // weighted by the inverse of its penalised score (LambdaChoice::parts).
+  // The wedges share the photo's lighting, so neither score ranks the class
+  // prior against every basis reliably for another lighting; the relit error
+  // is a norm, convex in the weights, so under any lighting the blend relights
+  // no worse than its parts' weighted mean, and it keeps every bin that both
+  // parts keep non-negative. false: the pick alone.
+  bool blend_every_basis = true;
+  // The blend's lesser part is left out below this weight (its penalised
+  // score over three times the other's at 0.25): it would move the fit by less
+  // than that fraction of the parts' difference, and it costs a second
+  // constrained solve (docs/benchmarks.md).
+  double min_blend_weight = 0.25;
   double fixed = 0.5;  // the weight for rule "fixed"
   std::vector<double> grid = {0, 1e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0};
   // Effective pixel count for GCV, as a fraction of the pixels (1: every pixel independent).
@@ -147,6 +162,20 @@ struct LambdaChoice {
   // penalty needed it (NaN elsewhere); empty without the penalty.
   std::vector<std::vector<double>> sensitivity;
   double sensitivity_penalty = 0;  // the weight a of the penalty the pick was made with (0: none)
+  // The fit: Σ weight · (candidate `cls` solved at `lambda`), weights summing
+  // to 1. One part, the pick, unless LambdaChoiceOptions::blend_every_basis
+  // blends two; chosen_class and lambda are then the part of the larger
+  // weight, and predicted_error is the parts' weighted mean (by Minkowski's
+  // inequality at least the blend's own held-out error).
+  struct Part {
+    int cls = -1;
+    double lambda = 0;
+    double weight = 1;
+    double predicted_error = 0;  // the part's own held-out error, as predicted_error
+    // Its prior sensitivity where the penalty computed it (NaN elsewhere).
+    double sensitivity = std::numeric_limits<double>::quiet_NaN();
+  };
+  std::vector<Part> parts;
 };
 
 // `opt` with max_condition set for a photo whose relative pixel noise is
@@ -215,6 +244,8 @@ std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int
 // with rule cv and opt.sensitivity_penalty they turn the penalty on. Only
 // candidates whose held-out error alone beats the best penalised score so far
 // need their sensitivity (the factor is at least 1), so few are computed.
+// The blend (opt.blend_every_basis) takes the last candidate as every basis,
+// where CandidateMembers puts it.
 LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
                           size_t pixels, const LambdaChoiceOptions& opt,

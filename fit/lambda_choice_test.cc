@@ -287,6 +287,31 @@ TEST(LambdaChoice, NoLambdaWithinTheBoundFallsBackToTheLargest) {
   EXPECT_TRUE(std::isfinite(ch.predicted_error));
 }
 
+namespace {
+// Two classes and every basis (the last candidate); a noisy photo of a truth
+// over the bases of both classes, equal weights but two; the BRDF metric of
+// each candidate its members' block of the Gram matrix.
+struct PenaltyCase {
+  std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4}, {5, 6, 7, 8, 9}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}};
+  Scene s = MakeScene(10, 11);
+  Folded x;
+  std::vector<ClassSpectrum> classes;
+  Observation obs;
+  std::vector<Observation> held;
+  std::vector<Eigen::MatrixXd> metrics;
+  PenaltyCase() {
+    Eigen::MatrixXd truth = Eigen::MatrixXd::Constant(10, 3, 0.1);
+    truth(2, 0) = 0.5, truth(7, 2) = 0.3;
+    const Eigen::MatrixXd y = NoisyRender(s, truth, 0.03, 12);
+    x = FoldScene(s, members, 4);
+    classes = FactorClasses(x.f, members);
+    obs = MakeObservation(x.f, s.Y, y);
+    held = FoldObservations(s.Y, y, x.fold, 4);
+    for (const auto& J : members) metrics.push_back(x.f[0].gram(J, J));
+  }
+};
+}  // namespace
+
 // The penalised pick against a brute force over every candidate: the least
 // held-out error times (1 + a·s)², s each candidate's prior sensitivity
 // (PriorSensitivity, tested against closed forms in fit_confidence_test.cc).
@@ -294,19 +319,9 @@ TEST(LambdaChoice, NoLambdaWithinTheBoundFallsBackToTheLargest) {
 // land where the brute force does, for a noisy photo where a weak and a
 // strong prior compete.
 TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
-  // Two classes and every basis; a truth over the bases of both classes,
-  // equal weights but two.
-  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4}, {5, 6, 7, 8, 9}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}};
-  const Scene s = MakeScene(10, 11);
-  Eigen::MatrixXd truth = Eigen::MatrixXd::Constant(10, 3, 0.1);
-  truth(2, 0) = 0.5, truth(7, 2) = 0.3;
-  const Eigen::MatrixXd y = NoisyRender(s, truth, 0.03, 12);
-  const auto [fold, f, cv] = FoldScene(s, members, 4);
-  const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
-  const Observation obs = MakeObservation(f, s.Y, y);
-  const std::vector<Observation> held = FoldObservations(s.Y, y, fold, 4);
-  std::vector<Eigen::MatrixXd> metrics;
-  for (const auto& J : members) metrics.push_back(f[0].gram(J, J));
+  const PenaltyCase c;
+  const auto& [members, s, x, classes, obs, held, metrics] = c;
+  const auto& [fold, f, cv] = x;
   for (double a : {0.0, 1.0, 20.0}) {
     SCOPED_TRACE(a);
     LambdaChoiceOptions opt;
@@ -335,6 +350,62 @@ TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
   const LambdaChoice penalised = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), strong, &metrics);
   EXPECT_TRUE(plain.sensitivity.empty()) << "no penalty, no sensitivities";
   EXPECT_TRUE(penalised.chosen_class != plain.chosen_class || penalised.lambda > plain.lambda);
+}
+
+TEST(LambdaChoice, TheBlendWeighsTheBestClassAndEveryBasisByTheirPenalisedScores) {
+  const PenaltyCase c;
+  const auto& [members, s, x, classes, obs, held, metrics] = c;
+  const auto& [fold, f, cv] = x;
+  const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
+  LambdaChoiceOptions opt;
+  opt.max_condition = 1e9;
+  opt.min_blend_weight = 0;
+  const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), opt, &metrics);
+  // Every candidate penalised, by brute force: the best of the classes and
+  // the best of every basis.
+  struct Best {
+    double penalised = std::numeric_limits<double>::infinity(), score = 0, lambda = -1;
+    int cls = -1;
+  };
+  Best of[2];
+  for (size_t j = 0; j < members.size(); ++j)
+    for (size_t l = 0; l < opt.grid.size(); ++l) {
+      if (!std::isfinite(ch.score[j][l])) continue;
+      const double factor = 1 + PriorSensitivity(classes[j], obs, opt.grid[l], metrics[j]);
+      const double penalised = ch.score[j][l] * factor * factor;
+      Best& b = of[j == 2 ? 1 : 0];
+      if (penalised < b.penalised) b = {penalised, ch.score[j][l], opt.grid[l], static_cast<int>(j)};
+    }
+  ASSERT_TRUE(std::isfinite(of[0].penalised) && std::isfinite(of[1].penalised));
+  const int won = of[1].penalised < of[0].penalised ? 1 : 0;
+  ASSERT_EQ(ch.parts.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    const Best& b = of[i == 0 ? won : 1 - won];
+    SCOPED_TRACE(i);
+    EXPECT_EQ(ch.parts[i].cls, b.cls);
+    EXPECT_EQ(ch.parts[i].lambda, b.lambda);
+    // Weights ∝ 1 / penalised score.
+    EXPECT_NEAR(ch.parts[i].weight, (1 / b.penalised) / (1 / of[0].penalised + 1 / of[1].penalised), 1e-12);
+    EXPECT_NEAR(ch.parts[i].predicted_error, std::sqrt(b.score / total), 1e-12);
+    EXPECT_NEAR(ch.parts[i].sensitivity, PriorSensitivity(classes[b.cls], obs, b.lambda, metrics[b.cls]), 1e-12);
+  }
+  EXPECT_EQ(ch.chosen_class, ch.parts[0].cls) << "the pick is the part of the larger weight";
+  EXPECT_GE(ch.parts[0].weight, ch.parts[1].weight);
+  EXPECT_NEAR(ch.predicted_error,
+              ch.parts[0].weight * ch.parts[0].predicted_error + ch.parts[1].weight * ch.parts[1].predicted_error,
+              1e-12);
+  // Below the least weight, and without the blend, the pick alone.
+  LambdaChoiceOptions high = opt, off = opt;
+  high.min_blend_weight = ch.parts[1].weight + 1e-9;
+  off.blend_every_basis = false;
+  for (const LambdaChoiceOptions* o : {&high, &off}) {
+    const LambdaChoice one = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), *o, &metrics);
+    ASSERT_EQ(one.parts.size(), 1u);
+    EXPECT_EQ(one.parts[0].cls, ch.parts[0].cls);
+    EXPECT_EQ(one.parts[0].lambda, ch.parts[0].lambda);
+    EXPECT_EQ(one.parts[0].weight, 1);
+    EXPECT_NEAR(one.predicted_error, ch.parts[0].predicted_error, 1e-12);
+  }
 }
 
 TEST(LambdaChoice, EveryBasisIsACandidateWhereTheRuleCanWeighIt) {
@@ -455,6 +526,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.condition_bound = 1.44e6;
   r.bound_noise = 0.0004;
   r.sensitivity_penalty = 1;
+  r.parts = {{1, 0.03, 0.75, 0.041}, {2, 1e-4, 0.25, 0.05}};
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
   EXPECT_TRUE(back.lambda_beyond_condition_bound);
@@ -471,9 +543,20 @@ TEST(FitRecord, RoundTripsThroughJson) {
   EXPECT_TRUE(back.weights == r.weights);
   EXPECT_TRUE(std::isinf(back.classes[2].residual));
   EXPECT_TRUE(std::isinf(back.lambda_scores[2][1]));
+  ASSERT_EQ(back.parts.size(), 2u);
+  EXPECT_EQ(back.parts[1].cls, 2);
+  EXPECT_EQ(back.parts[1].lambda, 1e-4);
+  EXPECT_EQ(back.parts[1].weight, 0.25);
+  EXPECT_EQ(back.parts[1].predicted_error, 0.05);
   nlohmann::json bad = r.ToJson();
   bad["chosen_class"] = 7;
   EXPECT_THROW(FitRecord::FromJson(bad, "fit.json"), Error);
+  // A blend whose weights do not sum to 1, or that names no class of the fit.
+  nlohmann::json heavy = r.ToJson(), stray = r.ToJson();
+  heavy["blend"][1]["weight"] = 0.5;
+  stray["blend"][1]["class"] = 3;
+  EXPECT_THROW(FitRecord::FromJson(heavy, "fit.json"), Error);
+  EXPECT_THROW(FitRecord::FromJson(stray, "fit.json"), Error);
 }
 
 }  // namespace brdfshot

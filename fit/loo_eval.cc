@@ -300,6 +300,34 @@ ClassSolution SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const 
   return s;
 }
 
+AutoFit SolveChoice(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
+                    const Observation& obs, const std::vector<ClassSpectrum>& classes, const LambdaChoice& choice,
+                    std::map<int, BinRows>* bins_of_class, bool with_sensitivity) {
+  BRDFSHOT_CHECK(!choice.parts.empty(), "a choice without parts");
+  AutoFit out;
+  const bool sensitivity = with_sensitivity && in.gram_cos.rows() == f[0].gram.rows();
+  if (sensitivity) out.prior_sensitivity = 0;
+  for (const LambdaChoice::Part& part : choice.parts) {
+    const ClassSpectrum& cls = classes.at(part.cls);
+    const ClassSolution s = SolveAuto(in, kind, f, obs, cls, part.lambda, bins_of_class, part.cls);
+    const Eigen::MatrixXd signed_weights = SignedWeights(s, f, cls, obs, part.lambda);
+    if (out.weights.size() == 0) {
+      out.weights = part.weight * s.weights;
+      out.signed_weights = part.weight * signed_weights;
+    } else {
+      out.weights += part.weight * s.weights;
+      out.signed_weights += part.weight * signed_weights;
+    }
+    // The λ choice's own where its penalty computed it: the same metric, in.gram_cos over the members.
+    if (sensitivity)
+      out.prior_sensitivity +=
+          part.weight * (std::isnan(part.sensitivity)
+                             ? PriorSensitivity(cls, obs, part.lambda, in.gram_cos(cls.members, cls.members))
+                             : part.sensitivity);
+  }
+  return out;
+}
+
 void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& methods, LooRow* rows) {
   if (methods.empty()) return;
   Eigen::MatrixXd W(methods[0].w.rows(), 3 * static_cast<Eigen::Index>(methods.size()));
@@ -370,12 +398,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
     SolveOptions so;
     so.lambda = opt.lambda;
     const std::array<const Eigen::MatrixXd*, 3> gcos = {&in.gram_cos, &in.gram_cos, &in.gram_cos};
-    std::map<int, BinRows> constraint_bins;  // per chosen class of material m
-    // "auto": the chosen class under the default's constraint.
-    const auto solve_auto = [&](const std::array<ChannelFactor, 3>& f, const Observation& obs, int j,
-                                const ClassSpectrum& cls, double lambda) {
-      return SolveAuto(in, opt.constraint, f, obs, cls, lambda, &constraint_bins, j);
-    };
+    std::map<int, BinRows> constraint_bins;        // per chosen class of material m
     std::vector<Eigen::MatrixXd> auto_weights(S);  // the default fit from each scene's photo, for the joint rows
     for (int a = 0; a < S; ++a) {
       if (in.scenes[a].scoring_only) continue;
@@ -399,16 +422,14 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const LambdaChoice choice = ChooseLambda(
           fa, auto_classes, &cv, obs, held, in.scenes[a].pixels,
           ResolveConditionBound(opt.choice, pixel_noise, auto_classes, obs, in.scenes[a].pixels), &auto_metrics);
-      const ClassSpectrum& picked = auto_classes[choice.chosen_class];
-      const ClassSolution fit = solve_auto(fa, obs, choice.chosen_class, picked, choice.lambda);
-      const std::vector<FittedMethod> methods = {
-          {"auto", fit.weights, choice.chosen_class},
-          {"auto-signed", SignedWeights(fit, fa, picked, obs, choice.lambda), choice.chosen_class},
-          {"ours", ours.weights(), ours.chosen},
-          {"paper", paper.weights(), paper.chosen},
-          {"lsq", SolveLeastSquares(fa, obs, keep), -1},
-          {"oracle", oracle, -1},
-          {"relit-oracle", RelitOracleWeights(in.scenes, a, keep, m), -1}};
+      const AutoFit fit = SolveChoice(in, opt.constraint, fa, obs, auto_classes, choice, &constraint_bins, true);
+      const std::vector<FittedMethod> methods = {{"auto", fit.weights, choice.chosen_class},
+                                                 {"auto-signed", fit.signed_weights, choice.chosen_class},
+                                                 {"ours", ours.weights(), ours.chosen},
+                                                 {"paper", paper.weights(), paper.chosen},
+                                                 {"lsq", SolveLeastSquares(fa, obs, keep), -1},
+                                                 {"oracle", oracle, -1},
+                                                 {"relit-oracle", RelitOracleWeights(in.scenes, a, keep, m), -1}};
       // relit[b][i]: method i relit under scene b (in-sample under a).
       std::vector<const Eigen::MatrixXd*> weights;
       for (const FittedMethod& meth : methods) weights.push_back(&meth.w);
@@ -425,9 +446,7 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
             in.scenes, a, [&](int b) { return relit[static_cast<size_t>(b)][i]; }, &row);
         row.brdf = brdf[i];
         row.insample = relit[static_cast<size_t>(a)][i];
-        if (row.method == "auto")
-          row.prior_sensitivity =
-              PriorSensitivity(picked, obs, choice.lambda, in.gram_cos(picked.members, picked.members));
+        if (row.method == "auto") row.prior_sensitivity = fit.prior_sensitivity;
         per_material[m].push_back(row);
       }
       SetNegativeBins(in.bin_sample, methods, &per_material[m][per_material[m].size() - methods.size()]);
@@ -446,10 +465,9 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const LambdaChoice choice =
           ChooseLambda(js.f, classes, &cv, obs, HeldObservations(js.fold_gram, m), js.pixels,
                        ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels), &auto_metrics);
-      const ClassSpectrum& picked = classes[choice.chosen_class];
       const std::string pair = in.scenes[a].probe + "+" + in.scenes[b].probe;
       const std::vector<FittedMethod> methods = {
-          {"auto-joint", solve_auto(js.f, obs, choice.chosen_class, picked, choice.lambda).weights,
+          {"auto-joint", SolveChoice(in, opt.constraint, js.f, obs, classes, choice, &constraint_bins, false).weights,
            choice.chosen_class},
           {"auto-one", auto_weights[a], -1},
           {"auto-one", auto_weights[b], -1}};

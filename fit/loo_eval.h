@@ -165,6 +165,19 @@ ClassSolution SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const 
 Eigen::MatrixXd SignedWeights(const ClassSolution& fit, const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls,
                               const Observation& obs, double lambda);
 
+// The default fit of one photo: every part of `choice` solved by SolveAuto
+// and blended by its weight (LambdaChoice::parts). `weights` and
+// `signed_weights` (each part's SignedWeights, blended alike) are n × 3;
+// `prior_sensitivity`, with `with_sensitivity` and in.gram_cos, is the parts'
+// PriorSensitivity, weighted alike (-1 otherwise).
+struct AutoFit {
+  Eigen::MatrixXd weights, signed_weights;
+  double prior_sensitivity = -1;
+};
+AutoFit SolveChoice(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
+                    const Observation& obs, const std::vector<ClassSpectrum>& classes, const LambdaChoice& choice,
+                    std::map<int, BinRows>* bins_of_class, bool with_sensitivity);
+
 // Sets rows[i].negative_bins = NegativeBinShare(bins, methods[i].w) for every
 // method, reading the bins once for all of them.
 void SetNegativeBins(const MatrixXfR& bins, const std::vector<FittedMethod>& methods, LooRow* rows);

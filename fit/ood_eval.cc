@@ -160,25 +160,18 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
           if (b != a) rhs += scenes[b].cross[c].col(t);
         oracle.col(c) = oracle_inverse[a][c] * rhs;
       }
-      const ClassSpectrum& picked = auto_classes[a][choice.chosen_class];
-      const ClassSolution fit =
-          SolveAuto(bases, opt.constraint, fa, obs, picked, choice.lambda, &constraint_bins, choice.chosen_class);
+      const AutoFit fit = SolveChoice(bases, opt.constraint, fa, obs, auto_classes[a], choice, &constraint_bins, true);
       const std::vector<FittedMethod> methods = {
-          {"auto", fit.weights, choice.chosen_class},
-          {"auto-signed", SignedWeights(fit, fa, picked, obs, choice.lambda), choice.chosen_class},
-          {"ours", ours.weights(), ours.chosen},
-          {"paper", paper.weights(), paper.chosen},
-          {"lsq", SolveLeastSquares(fa, obs, all), -1},
-          {"relit-oracle", oracle, -1}};
+          {"auto", fit.weights, choice.chosen_class},   {"auto-signed", fit.signed_weights, choice.chosen_class},
+          {"ours", ours.weights(), ours.chosen},        {"paper", paper.weights(), paper.chosen},
+          {"lsq", SolveLeastSquares(fa, obs, all), -1}, {"relit-oracle", oracle, -1}};
       for (const FittedMethod& m : methods) {
         LooRow row = MethodRow(m, targets[t], bases.scenes[a].probe, choice, opt.lambda);
         ScoreRelit(
             bases.scenes, a, [&](int b) { return TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t); }, &row);
         row.brdf = std::nan("");
         row.insample = TargetError(fa.data(), ta, m.w, t);
-        if (row.method == "auto" && bases.gram_cos.rows() == n)
-          row.prior_sensitivity =
-              PriorSensitivity(picked, obs, choice.lambda, bases.gram_cos(picked.members, picked.members));
+        if (row.method == "auto") row.prior_sensitivity = fit.prior_sensitivity;
         per_target[t].push_back(row);
       }
       SetNegativeBins(bases.bin_sample, methods, &per_target[t][per_target[t].size() - methods.size()]);
@@ -213,9 +206,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
       const LambdaChoice choice =
           ChooseLambda(js.f, classes, &joint_cv, obs, held, js.pixels,
                        ResolveConditionBound(opt.choice, js.photo_noise, classes, obs, js.pixels), metrics);
-      const Eigen::MatrixXd w = SolveAuto(bases, opt.constraint, js.f, obs, classes[choice.chosen_class], choice.lambda,
-                                          &constraint_bins, choice.chosen_class)
-                                    .weights;
+      const Eigen::MatrixXd w =
+          SolveChoice(bases, opt.constraint, js.f, obs, classes, choice, &constraint_bins, false).weights;
       const std::string pair = bases.scenes[a].probe + "+" + bases.scenes[b].probe;
       const std::vector<FittedMethod> methods = {
           {"auto-joint", w, choice.chosen_class}, {"auto-one", auto_weights[a], -1}, {"auto-one", auto_weights[b], -1}};

@@ -76,39 +76,57 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
                  obs, basis.geometry.size(), opt.lambda);
   out.choice = ChooseLambda(f, classes, &cv_system, obs, held, basis.geometry.size(),
                             ResolveConditionBound(opt.lambda, out.bound_noise), metrics.empty() ? nullptr : &metrics);
+  // Every class at the pick's λ, for fit.json's table; a part of the blend at its own.
   std::vector<double> lambda(classes.size(), out.choice.lambda);
+  for (const LambdaChoice::Part& part : out.choice.parts) lambda[part.cls] = part.lambda;
   out.fit = SolveClasswise(f, classes, obs, lambda);
   // The chosen class by the rule, even where another class's data residual is lower.
   out.fit.chosen = out.choice.chosen_class;
   WeightConstraint constraint;
   constraint.kind = opt.constraint;
-  // The chosen class's sampled bins only: every candidate's together would
-  // hold the sample twice over (every basis is a candidate too).
-  BinRows bins;
-  if (opt.constraint == WeightConstraint::Kind::kBins) {
-    bins = BinRows::EveryNth(*tables, classes[out.fit.chosen].members, std::max(1, opt.constraint_stride));
-    constraint.bins = &bins;
-  }
-  if (out.fit.classes[out.fit.chosen].path != "normal" && opt.constraint != WeightConstraint::Kind::kWeights) {
-    // Too ill-conditioned for the normal equations (λ near 0): solve the chosen
-    // class again through the QR of Y.
+  bool needs_qr = false;
+  for (const LambdaChoice::Part& part : out.choice.parts)
+    needs_qr = needs_qr || out.fit.classes[part.cls].path != "normal";
+  if (needs_qr && opt.constraint != WeightConstraint::Kind::kWeights) {
+    // Too ill-conditioned for the normal equations (λ near 0): solve the parts
+    // again through the QR of Y.
     AddQr(basis.Y, &f);
     obs = MakeObservation(f, basis.Y, y);
   }
-  const ClassSpectrum& chosen = classes[out.fit.chosen];
-  if (opt.constraint != WeightConstraint::Kind::kNone || f[0].has_qr())
-    out.fit.classes[out.fit.chosen] = SolveClass(f, chosen, obs, out.choice.lambda, constraint);
+  // Each part's class's sampled bins only: every candidate's together would
+  // hold the sample twice over (every basis is a candidate too).
+  std::vector<BinRows> bins(out.choice.parts.size());
+  for (size_t i = 0; i < out.choice.parts.size(); ++i) {
+    const LambdaChoice::Part& part = out.choice.parts[i];
+    if (opt.constraint == WeightConstraint::Kind::kBins) {
+      bins[i] = BinRows::EveryNth(*tables, classes[part.cls].members, std::max(1, opt.constraint_stride));
+      constraint.bins = &bins[i];
+    }
+    if (opt.constraint != WeightConstraint::Kind::kNone || f[0].has_qr())
+      out.fit.classes[part.cls] = SolveClass(f, classes[part.cls], obs, part.lambda, constraint);
+  }
   out.seconds_solve = solve.Seconds();
   Stopwatch check;
   // The bins between the sampled ones: the whole table is checked, and any
   // that dip below zero join the constrained bins for another solve.
   if (opt.constraint == WeightConstraint::Kind::kBins)
-    out.negative_bins_added = KeepNonNegativeOnTable(f, chosen, obs, out.choice.lambda, *tables, nullptr, &bins,
-                                                     &out.fit.classes[out.fit.chosen]);
+    for (size_t i = 0; i < out.choice.parts.size(); ++i) {
+      const LambdaChoice::Part& part = out.choice.parts[i];
+      out.negative_bins_added += KeepNonNegativeOnTable(f, classes[part.cls], obs, part.lambda, *tables, nullptr,
+                                                        &bins[i], &out.fit.classes[part.cls]);
+    }
   out.seconds_table_check = check.Seconds();
-  if (!metrics.empty())
-    out.prior_sensitivity = PriorSensitivity(chosen, obs, out.choice.lambda, metrics[out.fit.chosen]);
-  const Eigen::MatrixXd& w = out.fit.weights();
+  if (!metrics.empty()) out.prior_sensitivity = 0;
+  out.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(every_basis.size()), 3);
+  for (const LambdaChoice::Part& part : out.choice.parts) {
+    out.weights += part.weight * out.fit.classes[part.cls].weights;
+    if (!metrics.empty())  // the λ choice's own where its penalty computed it (the same metric)
+      out.prior_sensitivity +=
+          part.weight * (std::isnan(part.sensitivity)
+                             ? PriorSensitivity(classes[part.cls], obs, part.lambda, metrics[part.cls])
+                             : part.sensitivity);
+  }
+  const Eigen::MatrixXd& w = out.weights;
   out.reconstruction.resize(y.rows(), 3);
   for (int c = 0; c < 3; ++c) out.reconstruction.col(c) = basis.Y[c].cast<double>() * w.col(c);
   out.relative_residual = std::sqrt((out.reconstruction - y).squaredNorm() / std::max(1e-300, y.squaredNorm()));
@@ -140,12 +158,13 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.condition_bound = f.choice.condition_bound;
   r.sensitivity_penalty = f.choice.sensitivity_penalty;
   r.chosen_class = f.fit.chosen;
+  r.parts = f.choice.parts;
   r.relative_residual = f.relative_residual;
   for (const ClassSolution& s : f.fit.classes) r.classes.push_back({s.members, s.residual, s.condition[1], s.path});
   r.lambda_grid = f.choice.grid;
   r.lambda_scores = f.choice.score;
   r.bases = basis.BasisNames();
-  r.weights = f.fit.weights();
+  r.weights = f.weights;
   r.seconds_factor = f.seconds_factor;
   r.seconds_solve = f.seconds_solve;
   r.seconds_table_check = f.seconds_table_check;
@@ -156,7 +175,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
 }
 
 namespace {
-constexpr const char* kFitFormat = "brdfshot-fit-3";
+constexpr const char* kFitFormat = "brdfshot-fit-4";
 // JSON has no infinity: an empty class's score is written as null.
 nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 double FromFinite(const nlohmann::json& j) {
@@ -178,6 +197,13 @@ nlohmann::json FitRecord::ToJson() const {
   j["predicted_relit_error"] = predicted_relit_error;
   if (prior_sensitivity >= 0) j["prior_sensitivity"] = prior_sensitivity;
   j["chosen_class"] = chosen_class;
+  j["blend"] = nlohmann::json::array();
+  // A record made without its parts is the pick alone.
+  const std::vector<LambdaChoice::Part> written =
+      parts.empty() ? std::vector<LambdaChoice::Part>{{chosen_class, lambda, 1.0, predicted_relit_error}} : parts;
+  for (const LambdaChoice::Part& p : written)
+    j["blend"].push_back(
+        {{"class", p.cls}, {"lambda", p.lambda}, {"weight", p.weight}, {"predicted_relit_error", p.predicted_error}});
   j["relative_residual"] = relative_residual;
   j["classes"] = nlohmann::json::array();
   for (size_t k = 0; k < classes.size(); ++k)
@@ -267,6 +293,17 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     if (w.size() != r.bases.size()) throw FileError(source, "weights do not match the bases");
     if (r.chosen_class < 0 || static_cast<size_t>(r.chosen_class) >= r.classes.size())
       throw FileError(source, "chosen_class out of range");
+    double weight_sum = 0;
+    for (const auto& p : j.at("blend")) {
+      r.parts.push_back({p.at("class").get<int>(), p.at("lambda").get<double>(), p.at("weight").get<double>(),
+                         p.at("predicted_relit_error").get<double>()});
+      if (r.parts.back().cls < 0 || static_cast<size_t>(r.parts.back().cls) >= r.classes.size())
+        throw FileError(source, "a blend's class out of range");
+      if (!(r.parts.back().weight >= 0)) throw FileError(source, "a blend's weight is negative");
+      weight_sum += r.parts.back().weight;
+    }
+    if (r.parts.empty() || std::abs(weight_sum - 1) > 1e-9)
+      throw FileError(source, "the blend's weights do not sum to 1");
     r.weights.resize(static_cast<Eigen::Index>(w.size()), 3);
     for (size_t i = 0; i < w.size(); ++i)
       for (int c = 0; c < 3; ++c) r.weights(static_cast<Eigen::Index>(i), c) = w[i][c];

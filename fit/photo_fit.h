@@ -36,15 +36,19 @@ struct PhotoFitOptions {
 struct PhotoFit {
   ClasswiseFit fit;  // every class solved at its λ; fit.chosen is the pick
   LambdaChoice choice;
+  // bases × 3: the fit, Σ over choice.parts of weight × that class's solve
+  // (the pick's own weights where there is one part).
+  Eigen::MatrixXd weights;
   Eigen::MatrixXd reconstruction;  // pixels × 3: Y w, the fit in the photo's own lighting
   double relative_residual = 0;    // ‖Y w − y‖ / ‖y‖
   double seconds_factor = 0;       // photo-independent: Gram matrices, class and fold spectra
   double seconds_solve = 0;        // the photo's projections, the λ search and the solve
   double seconds_table_check = 0;  // kBins: the whole table checked for bins below zero (and re-solves)
   int negative_bins_added = 0;     // kBins: bins off the sample found below zero and constrained too
-  // How much the chosen class's BRDF moves when λ moves a decade either way
+  // How much the fit's BRDF moves when λ moves a decade either way
   // (fit/fit_confidence.h; the metric from every constraint_stride-th bin of
-  // the tables); -1 when no tables (or none on the basis images' grid) were given.
+  // the tables; the parts' weighted mean for a blend); -1 when no tables (or
+  // none on the basis images' grid) were given.
   double prior_sensitivity = -1;
   double relative_noise = 0;  // the photo's pixel noise (kUnknownNoise: not measurable)
   // What the condition bound followed: the pixel noise, or what the largest
@@ -90,6 +94,9 @@ struct FitRecord {
   double bound_noise = -1;         // PhotoFit::bound_noise; -1: not recorded
   double sensitivity_penalty = 0;  // LambdaChoice::sensitivity_penalty (0: the wedges' error alone)
   int chosen_class = -1;
+  // The fit's parts (LambdaChoice::parts): class, λ, weight, predicted error;
+  // none is written as the pick alone (chosen_class at lambda, weight 1).
+  std::vector<LambdaChoice::Part> parts;
   double relative_residual = 0;
   struct ClassRow {
     int members = 0;

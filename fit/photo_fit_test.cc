@@ -62,7 +62,7 @@ TEST(FitPhoto, ExactCombinationOfAClassIsFoundAndPredictedToRelightWell) {
     EXPECT_LT(fit.relative_residual, 0.01);
     EXPECT_LT(fit.choice.predicted_error, 0.02) << "noise-free data in the span must predict well";
     EXPECT_LT((fit.reconstruction - y).norm(), 0.01 * y.norm());
-    EXPECT_TRUE(fit.fit.weights().topRows(6).isZero()) << "weights outside the class stay zero";
+    EXPECT_TRUE(fit.weights.topRows(6).isZero()) << "weights outside the class stay zero";
   }
 }
 
@@ -91,6 +91,60 @@ TEST(FitPhoto, AMaterialAcrossTheClassesIsFoundByTheEveryBasisCandidate) {
   EXPECT_EQ(every.choice.sensitivity_penalty, 1);
   EXPECT_EQ(classes.choice.sensitivity_penalty, 1) << "the penalty weighs the classes too";
   EXPECT_NEAR(every.choice.sensitivity[2][at], every.prior_sensitivity, 1e-12);
+}
+
+TEST(FitPhoto, ABlendIsItsPartsWeightedAndRelightsNoWorseThanTheirMean) {
+  // A truth mostly in class 1 with a little of class 0, under noise: the
+  // class and every basis both explain it, neither exactly.
+  Scene s = MakeScene();
+  s.basis.header["grid"] = {4, 5, 20};  // the tables' grid: the penalty, and with it the blend
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(12, 3);
+  for (int c = 0; c < 3; ++c) w.col(c) << 0.03, 0, 0.02, 0, 0, 0.01, 0.3, 0.05, 0.2, 0.1, 0.25, 0.1;
+  std::mt19937 rng(21);
+  std::normal_distribution<double> noise(0, 0.05);
+  Eigen::MatrixXd y = Render(s.basis, w);
+  for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
+  PhotoFitOptions opt;
+  opt.constraint = WeightConstraint::Kind::kNone;
+  opt.lambda.min_blend_weight = 0;
+  const PhotoFit fit = FitPhoto(s.basis, s.model, y, opt, &s.tables);
+  ASSERT_EQ(fit.choice.parts.size(), 2u);
+  EXPECT_EQ(std::max(fit.choice.parts[0].cls, fit.choice.parts[1].cls), 2) << "one part every basis (2)";
+  EXPECT_LT(std::min(fit.choice.parts[0].cls, fit.choice.parts[1].cls), 2) << "the other a class";
+  // Each part is its class's ridge solve at its own λ.
+  const std::array<ChannelFactor, 3> f = FactorBasisImages(s.basis.Y);
+  const std::vector<ClassSpectrum> classes =
+      FactorClasses(f, {s.model.Members(0), s.model.Members(1), {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}});
+  const Observation obs = MakeObservation(f, s.basis.Y, y);
+  Eigen::MatrixXd blend = Eigen::MatrixXd::Zero(12, 3);
+  std::vector<Eigen::MatrixXd> parts;
+  for (const LambdaChoice::Part& p : fit.choice.parts) {
+    parts.push_back(SolveClass(f, classes[p.cls], obs, p.lambda).weights);
+    blend += p.weight * parts.back();
+  }
+  EXPECT_LT((fit.weights - blend).norm(), 1e-9 * blend.norm());
+  EXPECT_LT((fit.reconstruction - Render(s.basis, fit.weights)).norm(), 1e-9 * y.norm());
+  // Under other lighting (another scene's basis images) the blend relights
+  // no worse than its parts' weighted mean: the error is a norm.
+  const Scene other = [] {
+    Scene o = MakeScene();
+    std::mt19937 r(99);
+    std::uniform_real_distribution<float> u(0.5f, 1.5f);
+    for (int c = 0; c < 3; ++c)
+      for (Eigen::Index j = 0; j < o.basis.Y[c].cols(); ++j) o.basis.Y[c].col(j) *= u(r);
+    return o;
+  }();
+  const Eigen::MatrixXd truth = Render(other.basis, w);
+  const auto relit = [&](const Eigen::MatrixXd& v) { return (Render(other.basis, v) - truth).norm(); };
+  EXPECT_LE(relit(fit.weights),
+            fit.choice.parts[0].weight * relit(parts[0]) + fit.choice.parts[1].weight * relit(parts[1]) + 1e-12);
+  // With the bin constraint each part keeps the whole table non-negative, and so does the blend.
+  PhotoFitOptions bins = opt;
+  bins.constraint = WeightConstraint::Kind::kBins;
+  bins.constraint_stride = 7;
+  const PhotoFit b = FitPhoto(s.basis, s.model, y, bins, &s.tables);
+  ASSERT_EQ(b.choice.parts.size(), 2u);
+  EXPECT_TRUE(NegativeBins(s.tables, classes[2].members, b.weights).empty());
 }
 
 TEST(FitPhoto, NoiseRaisesTheChosenLambdaAndThePredictedError) {
@@ -161,8 +215,8 @@ TEST(FitPhoto, BinConstraintKeepsTheWholeTableNonNegative) {
   const PhotoFit b = FitPhoto(s.basis, s.model, y, bins, &s.tables);
   ASSERT_EQ(a.fit.chosen, 1);
   ASSERT_EQ(b.fit.chosen, 1);
-  EXPECT_FALSE(NegativeBins(s.tables, members, a.fit.weights().bottomRows(6)).empty());
-  EXPECT_TRUE(NegativeBins(s.tables, members, b.fit.weights().bottomRows(6)).empty());
+  EXPECT_FALSE(NegativeBins(s.tables, members, a.weights.bottomRows(6)).empty());
+  EXPECT_TRUE(NegativeBins(s.tables, members, b.weights.bottomRows(6)).empty());
   EXPECT_GT(b.negative_bins_added, 0) << "the sampled bins alone must miss some, so the whole-table check had work";
   EXPECT_EQ(b.fit.classes[1].path, "nonneg-bins");
   EXPECT_GT(b.relative_residual, a.relative_residual);

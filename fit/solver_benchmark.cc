@@ -136,7 +136,9 @@ void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: no
     const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, kDefaultWedges);
     const Observation obs = SumObservations(held);
     const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), DefaultBound(p, x, obs), &metrics);
-    benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda));
+    for (const LambdaChoice::Part& part : ch.parts)  // every part of a blend
+      benchmark::DoNotOptimize(SolveClass(f, classes[part.cls], obs, part.lambda));
+    state.counters["parts"] = static_cast<double>(ch.parts.size());
   }
 }
 BENCHMARK(BM_SolveWithLambdaChoice)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -185,7 +187,8 @@ void BM_ChoicePartScoreAndSolve(benchmark::State& state) {
   LambdaChoice ch;
   for (auto _ : state) {
     ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), opt, &metrics);
-    benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda));
+    for (const LambdaChoice::Part& part : ch.parts)
+      benchmark::DoNotOptimize(SolveClass(f, classes[part.cls], obs, part.lambda));
   }
   state.counters["condition_bound"] = opt.max_condition;
   state.counters["lambda"] = ch.lambda;
@@ -214,8 +217,10 @@ void BM_SolveWithLambdaChoiceAndBinConstraint(benchmark::State& state) {
     const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), DefaultBound(p, x, obs), &metrics);
     WeightConstraint constraint;
     constraint.kind = WeightConstraint::Kind::kBins;
-    constraint.bins = &class_bins[ch.chosen_class];
-    benchmark::DoNotOptimize(SolveClass(f, classes[ch.chosen_class], obs, ch.lambda, constraint));
+    for (const LambdaChoice::Part& part : ch.parts) {
+      constraint.bins = &class_bins[part.cls];
+      benchmark::DoNotOptimize(SolveClass(f, classes[part.cls], obs, part.lambda, constraint));
+    }
     if (negative_before == 0) {
       const ClassSolution free = SolveClass(f, classes[ch.chosen_class], obs, ch.lambda);
       const Eigen::MatrixXd wJ = free.weights(classes[ch.chosen_class].members, Eigen::all);
