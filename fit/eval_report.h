@@ -29,9 +29,10 @@ struct DefaultVersusBaselines {
   int beats_lsq = 0, beats_paper = 0;
   int within_5_percent = 0;  // ≤ 1.05 × min(lsq, ours)
   double spearman = 0;       // predicted vs actual relit error of "auto", over all fits
-  // The same for auto's prior sensitivity (fit_confidence.h), and for the
-  // predicted error times it: how much ranking the sensitivity adds.
-  double spearman_sensitivity = 0, spearman_product = 0;
+  // The same for auto's held-out error, its prior sensitivity
+  // (fit_confidence.h), and the held-out error times the sensitivity: how
+  // much ranking each adds.
+  double spearman_held_out = 0, spearman_sensitivity = 0, spearman_product = 0;
 };
 DefaultVersusBaselines CompareDefault(const Evaluation& ev);
 
@@ -40,11 +41,11 @@ DefaultVersusBaselines CompareDefault(const Evaluation& ev);
 // photo was taken under.
 struct JointVersusSingle {
   int pairs = 0;
-  int beats_both = 0;  // the joint fit's relit error below both single photos'
-  int beats_mean = 0;  // below the mean of the two
-  double median_joint = -1, median_one = -1;                          // relit error
+  int beats_both = 0;                         // the joint fit's relit error below both single photos'
+  int beats_mean = 0;                         // below the mean of the two
+  double median_joint = -1, median_one = -1;  // relit error
   double median_joint_directional = -1, median_one_directional = -1;  // under the suns
-  int materials = 0, materials_beating_mean = 0;  // per material, mean over its pairs
+  int materials = 0, materials_beating_mean = 0;                      // per material, mean over its pairs
 };
 JointVersusSingle CompareJoint(const Evaluation& ev);
 

@@ -11,17 +11,22 @@
 namespace brdfshot {
 namespace {
 
-constexpr const char* kShardFormat = "brdfshot-eval-shard-2";
+constexpr const char* kShardFormat = "brdfshot-eval-shard-3";
 
 // A row's numbers by name: one list for the writer and the reader. A number
 // that does not apply is NaN (the BRDF error of a target outside the
 // database): JSON's null, read back as NaN.
-const std::pair<const char*, double LooRow::*> kRowNumbers[] = {
-    {"lambda", &LooRow::lambda},         {"predicted", &LooRow::predicted},
-    {"relit_mean", &LooRow::relit_mean}, {"relit_median", &LooRow::relit_median},
-    {"brdf", &LooRow::brdf},             {"insample", &LooRow::insample},
-    {"relit_directional", &LooRow::relit_directional}, {"negative_bins", &LooRow::negative_bins},
-    {"prior_sensitivity", &LooRow::prior_sensitivity}, {"condition_bound", &LooRow::condition_bound}};
+const std::pair<const char*, double LooRow::*> kRowNumbers[] = {{"lambda", &LooRow::lambda},
+                                                                {"predicted", &LooRow::predicted},
+                                                                {"held_out", &LooRow::held_out},
+                                                                {"relit_mean", &LooRow::relit_mean},
+                                                                {"relit_median", &LooRow::relit_median},
+                                                                {"brdf", &LooRow::brdf},
+                                                                {"insample", &LooRow::insample},
+                                                                {"relit_directional", &LooRow::relit_directional},
+                                                                {"negative_bins", &LooRow::negative_bins},
+                                                                {"prior_sensitivity", &LooRow::prior_sensitivity},
+                                                                {"condition_bound", &LooRow::condition_bound}};
 
 nlohmann::json RowJson(const LooRow& r) {
   nlohmann::json j = {
@@ -74,12 +79,8 @@ nlohmann::json EvaluationShard::ToJson() const {
   nlohmann::json rows = nlohmann::json::array();
   for (const LooRow& r : e.result.rows) rows.push_back(RowJson(r));
   j["shard_index"] = e.shard_index;
-  j["seconds"] = {{"database", e.seconds_database},
-                  {"grams", e.seconds_grams},
-                  {"basis", e.seconds_basis},
-                  {"fits", e.seconds_fits},
-                  {"total", e.seconds_total},
-                  {"cluster", e.result.seconds_cluster},
+  j["seconds"] = {{"database", e.seconds_database}, {"grams", e.seconds_grams}, {"basis", e.seconds_basis},
+                  {"fits", e.seconds_fits},         {"total", e.seconds_total}, {"cluster", e.result.seconds_cluster},
                   {"solve", e.result.seconds_solve}};
   j["rows"] = std::move(rows);
   return j;

@@ -151,8 +151,12 @@ struct LambdaChoice {
   std::vector<std::vector<double>> score;
   std::vector<double> grid;
   // Relative held-out RMSE of the chosen (class, λ): √(error / Σ‖y‖²) over
-  // the wedges when folds are given (else GCV's estimate): the fit's predicted
-  // error on pixels — and lighting — it was not fitted to.
+  // the wedges when folds are given (else GCV's estimate): the fit's error on
+  // pixels it was not fitted to.
+  double held_out_error = 0;
+  // The fit's predicted error on lighting it was not fitted to: the held-out
+  // error times (1 + a·s) where the sensitivity penalty computed the pick's
+  // prior sensitivity s (rule cv), else the held-out error.
   double predicted_error = 0;
   // No λ of the grid kept any class within max_condition: the grid's largest
   // λ was taken instead of the criterion's pick.
@@ -165,15 +169,16 @@ struct LambdaChoice {
   // The fit: Σ weight · (candidate `cls` solved at `lambda`), weights summing
   // to 1. One part, the pick, unless LambdaChoiceOptions::blend_every_basis
   // blends two; chosen_class and lambda are then the part of the larger
-  // weight, and predicted_error is the parts' weighted mean (by Minkowski's
-  // inequality at least the blend's own held-out error).
+  // weight, and predicted_error and held_out_error are the parts' weighted
+  // means (by Minkowski's inequality at least the blend's own held-out error).
   struct Part {
     int cls = -1;
     double lambda = 0;
     double weight = 1;
-    double predicted_error = 0;  // the part's own held-out error, as predicted_error
+    double predicted_error = 0;  // the part's own, as LambdaChoice::predicted_error
     // Its prior sensitivity where the penalty computed it (NaN elsewhere).
     double sensitivity = std::numeric_limits<double>::quiet_NaN();
+    double held_out_error = 0;  // the part's own, as LambdaChoice::held_out_error
   };
   std::vector<Part> parts;
 };

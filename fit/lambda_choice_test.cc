@@ -386,14 +386,19 @@ TEST(LambdaChoice, TheBlendWeighsTheBestClassAndEveryBasisByTheirPenalisedScores
     EXPECT_EQ(ch.parts[i].lambda, b.lambda);
     // Weights ∝ 1 / penalised score.
     EXPECT_NEAR(ch.parts[i].weight, (1 / b.penalised) / (1 / of[0].penalised + 1 / of[1].penalised), 1e-12);
-    EXPECT_NEAR(ch.parts[i].predicted_error, std::sqrt(b.score / total), 1e-12);
+    EXPECT_NEAR(ch.parts[i].held_out_error, std::sqrt(b.score / total), 1e-12);
     EXPECT_NEAR(ch.parts[i].sensitivity, PriorSensitivity(classes[b.cls], obs, b.lambda, metrics[b.cls]), 1e-12);
+    // The predicted error is the held-out error weighed as the pick weighs it.
+    EXPECT_NEAR(ch.parts[i].predicted_error, std::sqrt(b.penalised / total), 1e-12);
+    EXPECT_GT(ch.parts[i].predicted_error, ch.parts[i].held_out_error);
   }
   EXPECT_EQ(ch.chosen_class, ch.parts[0].cls) << "the pick is the part of the larger weight";
   EXPECT_GE(ch.parts[0].weight, ch.parts[1].weight);
   EXPECT_NEAR(ch.predicted_error,
               ch.parts[0].weight * ch.parts[0].predicted_error + ch.parts[1].weight * ch.parts[1].predicted_error,
               1e-12);
+  EXPECT_NEAR(ch.held_out_error,
+              ch.parts[0].weight * ch.parts[0].held_out_error + ch.parts[1].weight * ch.parts[1].held_out_error, 1e-12);
   // Below the least weight, and without the blend, the pick alone.
   LambdaChoiceOptions high = opt, off = opt;
   high.min_blend_weight = ch.parts[1].weight + 1e-9;
@@ -405,6 +410,7 @@ TEST(LambdaChoice, TheBlendWeighsTheBestClassAndEveryBasisByTheirPenalisedScores
     EXPECT_EQ(one.parts[0].lambda, ch.parts[0].lambda);
     EXPECT_EQ(one.parts[0].weight, 1);
     EXPECT_NEAR(one.predicted_error, ch.parts[0].predicted_error, 1e-12);
+    EXPECT_NEAR(one.held_out_error, ch.parts[0].held_out_error, 1e-12);
   }
 }
 
@@ -510,6 +516,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.lambda_rule = "cv";
   r.lambda = 0.03;
   r.predicted_relit_error = 0.041;
+  r.held_out_error = 0.036;
   r.chosen_class = 1;
   r.relative_residual = 0.02;
   r.classes = {{3, 1.5, 20, "normal"}, {2, 0.5, 1e9, "qr"}, {0, std::numeric_limits<double>::infinity(), 0, ""}};
@@ -526,7 +533,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.condition_bound = 1.44e6;
   r.bound_noise = 0.0004;
   r.sensitivity_penalty = 1;
-  r.parts = {{1, 0.03, 0.75, 0.041}, {2, 1e-4, 0.25, 0.05}};
+  r.parts = {{1, 0.03, 0.75, 0.041, std::nan(""), 0.037}, {2, 1e-4, 0.25, 0.05, std::nan(""), 0.033}};
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
   EXPECT_TRUE(back.lambda_beyond_condition_bound);
@@ -548,6 +555,8 @@ TEST(FitRecord, RoundTripsThroughJson) {
   EXPECT_EQ(back.parts[1].lambda, 1e-4);
   EXPECT_EQ(back.parts[1].weight, 0.25);
   EXPECT_EQ(back.parts[1].predicted_error, 0.05);
+  EXPECT_EQ(back.parts[1].held_out_error, 0.033);
+  EXPECT_EQ(back.held_out_error, 0.036);
   nlohmann::json bad = r.ToJson();
   bad["chosen_class"] = 7;
   EXPECT_THROW(FitRecord::FromJson(bad, "fit.json"), Error);

@@ -271,7 +271,8 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
   row.chosen_class = method.chosen_class;
   const std::string name = method.name;
   if (name.rfind("auto", 0) == 0)
-    row.lambda = choice.lambda, row.predicted = choice.predicted_error, row.condition_bound = choice.condition_bound;
+    row.lambda = choice.lambda, row.predicted = choice.predicted_error, row.held_out = choice.held_out_error;
+  row.condition_bound = choice.condition_bound;
   if (name == "ours" || name == "paper") row.lambda = fixed_lambda;
   return row;
 }
@@ -476,7 +477,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       for (int i = 0; i < 3; ++i) {
         LooRow row = MethodRow(methods[i], in.materials[m], probes[i], choice, opt.lambda);
         if (i > 0)
-          row.lambda = row.predicted = row.condition_bound = -1;  // the single fits' own are in their "auto" rows
+          row.lambda = row.predicted = row.held_out = row.condition_bound =
+              -1;  // the single fits' own are in their "auto" rows
         ScoreRelitExcept(
             in.scenes, {a, b},
             [&](int s) {

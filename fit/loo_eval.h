@@ -131,6 +131,7 @@ struct LooRow {
   int chosen_class = -1;  // -1 for baselines without classes
   double lambda = -1;     // the λ used (-1: none)
   double predicted = -1;  // the fit's own predicted error ("auto"; -1: none)
+  double held_out = -1;   // the fit's own held-out error ("auto"; -1: none)
   double relit_mean = 0, relit_median = 0, brdf = 0, insample = 0;
   double relit_directional = -1;  // mean over the scoring-only scenes (-1: none)
   double negative_bins = -1;      // NegativeBinShare of the fitted BRDF (-1: not counted)

@@ -152,6 +152,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.lambda = f.choice.lambda;
   r.lambda_beyond_condition_bound = f.choice.beyond_condition_bound;
   r.predicted_relit_error = f.choice.predicted_error;
+  r.held_out_error = f.choice.held_out_error;
   r.prior_sensitivity = f.prior_sensitivity;
   r.relative_noise = f.relative_noise;
   r.bound_noise = f.bound_noise;
@@ -195,15 +196,21 @@ nlohmann::json FitRecord::ToJson() const {
   j["lambda_rule"] = lambda_rule;
   j["weights_constraint"] = weights_constraint;
   j["predicted_relit_error"] = predicted_relit_error;
+  j["held_out_error"] = held_out_error;
   if (prior_sensitivity >= 0) j["prior_sensitivity"] = prior_sensitivity;
   j["chosen_class"] = chosen_class;
   j["blend"] = nlohmann::json::array();
   // A record made without its parts is the pick alone.
   const std::vector<LambdaChoice::Part> written =
-      parts.empty() ? std::vector<LambdaChoice::Part>{{chosen_class, lambda, 1.0, predicted_relit_error}} : parts;
+      parts.empty() ? std::vector<LambdaChoice::Part>{{chosen_class, lambda, 1.0, predicted_relit_error, std::nan(""),
+                                                       held_out_error}}
+                    : parts;
   for (const LambdaChoice::Part& p : written)
-    j["blend"].push_back(
-        {{"class", p.cls}, {"lambda", p.lambda}, {"weight", p.weight}, {"predicted_relit_error", p.predicted_error}});
+    j["blend"].push_back({{"class", p.cls},
+                          {"lambda", p.lambda},
+                          {"weight", p.weight},
+                          {"predicted_relit_error", p.predicted_error},
+                          {"held_out_error", p.held_out_error}});
   j["relative_residual"] = relative_residual;
   j["classes"] = nlohmann::json::array();
   for (size_t k = 0; k < classes.size(); ++k)
@@ -271,6 +278,7 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
         r.weights_constraint != ConstraintName(WeightConstraint::Kind::kBins))
       throw FileError(source, "unknown weights_constraint \"" + r.weights_constraint + "\"");
     r.predicted_relit_error = j.at("predicted_relit_error");
+    r.held_out_error = j.at("held_out_error");
     r.prior_sensitivity = j.value("prior_sensitivity", -1.0);  // absent: not measured
     r.chosen_class = j.at("chosen_class");
     r.relative_residual = j.at("relative_residual");
@@ -296,7 +304,8 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     double weight_sum = 0;
     for (const auto& p : j.at("blend")) {
       r.parts.push_back({p.at("class").get<int>(), p.at("lambda").get<double>(), p.at("weight").get<double>(),
-                         p.at("predicted_relit_error").get<double>()});
+                         p.at("predicted_relit_error").get<double>(), std::nan(""),
+                         p.at("held_out_error").get<double>()});
       if (r.parts.back().cls < 0 || static_cast<size_t>(r.parts.back().cls) >= r.classes.size())
         throw FileError(source, "a blend's class out of range");
       if (!(r.parts.back().weight >= 0)) throw FileError(source, "a blend's weight is negative");

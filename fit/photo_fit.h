@@ -86,15 +86,17 @@ struct FitRecord {
   double lambda = 0;
   bool lambda_beyond_condition_bound = false;  // LambdaChoice::beyond_condition_bound
   std::string weights_constraint = "none";     // ConstraintName of the chosen class's solve
-  double predicted_relit_error = 0;
-  double prior_sensitivity = -1;  // PhotoFit::prior_sensitivity (-1: not measured)
+  double predicted_relit_error = 0;            // LambdaChoice::predicted_error
+  double held_out_error = 0;                   // LambdaChoice::held_out_error
+  double prior_sensitivity = -1;               // PhotoFit::prior_sensitivity (-1: not measured)
   // The photo's relative pixel noise and the condition bound the λ search ran
   // under (lambda_choice.h, photo_noise.h); -1: not recorded.
   double relative_noise = -1, condition_bound = -1;
   double bound_noise = -1;         // PhotoFit::bound_noise; -1: not recorded
   double sensitivity_penalty = 0;  // LambdaChoice::sensitivity_penalty (0: the wedges' error alone)
   int chosen_class = -1;
-  // The fit's parts (LambdaChoice::parts): class, λ, weight, predicted error;
+  // The fit's parts (LambdaChoice::parts): class, λ, weight, predicted and
+  // held-out error;
   // none is written as the pick alone (chosen_class at lambda, weight 1).
   std::vector<LambdaChoice::Part> parts;
   double relative_residual = 0;
