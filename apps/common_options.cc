@@ -111,6 +111,8 @@ void AddConditionBoundOptions(po::options_description& d, LambdaChoiceOptions* c
        "1: besides the model's classes, every basis is one more candidate class of the λ choice; 0: the classes only")
       ("sensitivity-penalty", po::value(&choice->sensitivity_penalty)->default_value(choice->sensitivity_penalty),
        "a: the wedges' error of each candidate is multiplied by (1 + a × its prior sensitivity) (docs/method.md); 0: not")
+      ("relative-wedges", po::value(&choice->relative_wedges)->default_value(choice->relative_wedges),
+       "1: each wedge's held-out error counts relative to the wedge's own signal (docs/method.md); 0: as it is")
       ("blend", po::value(&choice->blend_every_basis)->default_value(choice->blend_every_basis),
        "1: with the penalty and the every-basis candidate, the fit blends the best class and every basis, each at its "
        "own λ, weighted by 1 / penalised score (docs/method.md); 0: the pick alone")

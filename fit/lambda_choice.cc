@@ -107,10 +107,31 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
 }
 
 namespace {
+// The least share of the mean wedge a dark wedge counts as holding, where
+// wedges count relative to their signal; -1 where they count as they are.
+double WedgeFloorShare(const LambdaChoiceOptions& opt) {
+  return opt.relative_wedges ? std::max(opt.min_wedge_share, kLeastWedgeShare) : -1;
+}
+}  // namespace
+
+std::vector<double> WedgeWeights(const Observation& all, const std::vector<Observation>& held,
+                                 const LambdaChoiceOptions& opt) {
+  const double K = static_cast<double>(held.size());
+  const double mean = (all.norm2[0] + all.norm2[1] + all.norm2[2]) / std::max(K, 1.0);
+  std::vector<double> w(held.size(), 1.0);
+  if (!opt.relative_wedges || !(mean > 0)) return w;
+  const double floor = WedgeFloorShare(opt) * mean;
+  for (size_t k = 0; k < held.size(); ++k)
+    w[k] = mean / std::max(held[k].norm2[0] + held[k].norm2[1] + held[k].norm2[2], floor);
+  return w;
+}
+
+namespace {
 // Held-out squared error of class `cls` (its fold factor) for every λ of
-// `grid` that `scored` marks (all when empty), added into `score`.
+// `grid` that `scored` marks (all when empty), times `weight`, added into
+// `score`.
 void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd, 3>& held_class_gram,
-                   const Observation& all, const Observation& held, const std::vector<double>& all_grid,
+                   const Observation& all, const Observation& held, const std::vector<double>& all_grid, double weight,
                    std::vector<double>* score, const std::vector<bool>& scored = {}) {
   // Only the scored λ are solved and projected: the products with Q and the
   // held-out Gram matrix are most of a choice's cost.
@@ -155,7 +176,7 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
     const Eigen::MatrixXd GW = held_class_gram[c] * W;
     const Eigen::VectorXd zh = held.z[c](J);
     for (Eigen::Index l = 0; l < L; ++l)
-      (*score)[at[l]] += std::max(0.0, W.col(l).dot(GW.col(l)) - 2 * W.col(l).dot(zh) + held.norm2[c]);
+      (*score)[at[l]] += weight * std::max(0.0, W.col(l).dot(GW.col(l)) - 2 * W.col(l).dot(zh) + held.norm2[c]);
   }
 }
 
@@ -255,6 +276,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   LambdaChoice out;
   out.rule = opt.rule;
   out.condition_bound = opt.max_condition;
+  if (cv && !held.empty()) out.min_wedge_share = WedgeFloorShare(opt);
   const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
   if (opt.rule == "fixed") {
     const ClasswiseFit fit = SolveClasswise(f, classes, obs, SolveOptions{opt.fixed});
@@ -266,8 +288,9 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     if (cv) {
       BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty());
       std::vector<double> s(1, 0.0);
+      const std::vector<double> weight = WedgeWeights(obs, held, opt);
       for (size_t k = 0; k < held.size(); ++k)
-        AddFoldScores(cv->train[k][fit.chosen], cv->held_class[k][fit.chosen], obs, held[k], out.grid, &s);
+        AddFoldScores(cv->train[k][fit.chosen], cv->held_class[k][fit.chosen], obs, held[k], out.grid, weight[k], &s);
       predicted = s[0];
     }
     out.held_out_error = out.predicted_error = std::sqrt(predicted / std::max(total, 1e-300));
@@ -301,11 +324,13 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     BRDFSHOT_CHECK(cv, "rule cv needs the folds");
     const int K = static_cast<int>(held.size()), J = static_cast<int>(classes.size());
     std::vector<std::vector<double>> per_fold(static_cast<size_t>(J) * K, std::vector<double>(opt.grid.size(), 0.0));
+    const std::vector<double> weight = WedgeWeights(obs, held, opt);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int q = 0; q < J * K; ++q) {
       const int j = q / K, k = q % K;
       if (!classes[j].members.empty())
-        AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, &per_fold[q], scored[j]);
+        AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, weight[k], &per_fold[q],
+                      scored[j]);
     }
     for (int j = 0; j < J; ++j) {
       if (classes[j].members.empty()) continue;
@@ -408,10 +433,11 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
       predicted = best;
     } else {
       predicted = 0;
+      const std::vector<double> weight = WedgeWeights(obs, held, opt);
       for (size_t k = 0; k < held.size(); ++k) {
         std::vector<double> s(opt.grid.size(), 0.0);
-        AddFoldScores(cv->train[k][out.chosen_class], cv->held_class[k][out.chosen_class], obs, held[k], opt.grid, &s,
-                      at);
+        AddFoldScores(cv->train[k][out.chosen_class], cv->held_class[k][out.chosen_class], obs, held[k], opt.grid,
+                      weight[k], &s, at);
         predicted += s[chosen_l];  // in fold order, as the cv rule sums
       }
     }
@@ -531,6 +557,9 @@ double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes,
 LambdaChoiceOptions ResolveConditionBound(const LambdaChoiceOptions& opt, double relative_noise) {
   LambdaChoiceOptions out = opt;
   if (out.max_condition <= 0) out.max_condition = ConditionBoundForNoise(relative_noise, opt.noise_bound);
+  // A wedge's noise holds ε² of the mean wedge's ‖y‖² (ε relative to the
+  // photo's RMS, wedges of equal size): no darker wedge is weighed as darker.
+  if (out.min_wedge_share < 0) out.min_wedge_share = relative_noise >= 0 ? relative_noise * relative_noise : 0.1;
   return out;
 }
 

@@ -112,6 +112,18 @@ struct LambdaChoiceOptions {
   // sensitivity sees how much of the BRDF the prior, not the photo, decides,
   // which is what another lighting shows (docs/method.md).
   double sensitivity_penalty = 1;
+  // Each wedge's held-out error counted relative to its own signal
+  // (WedgeWeights): the relit error is relative under every lighting, and a
+  // wedge that holds a small bright source's highlight would otherwise decide
+  // the choice alone — by how well the prior, not the photo, guesses a
+  // highlight the other wedges never saw. false: each wedge's error as it is.
+  bool relative_wedges = true;
+  // A wedge darker than this share of the mean wedge's ‖y‖² is weighed as if
+  // it held that share: a wedge in shadow (one light from the side) holds
+  // little but noise, whose relative error says nothing of the fit. < 0:
+  // ResolveConditionBound sets it to the photo's noise, ε² (0.1 for an
+  // unknown noise).
+  double min_wedge_share = -1;
   // Rule cv with the penalty and every basis a candidate: the fit blends the
   // best model class and every basis, each at its own best penalised λ,
   // weighted by the inverse of its penalised score (LambdaChoice::parts).
@@ -166,6 +178,10 @@ struct LambdaChoice {
   // penalty needed it (NaN elsewhere); empty without the penalty.
   std::vector<std::vector<double>> sensitivity;
   double sensitivity_penalty = 0;  // the weight a of the penalty the pick was made with (0: none)
+  // The wedges' errors counted relative to their own signal, a wedge at least
+  // this share of the mean wedge (LambdaChoiceOptions::relative_wedges); -1:
+  // each wedge's error as it is, or no wedges.
+  double min_wedge_share = -1;
   // The fit: Σ weight · (candidate `cls` solved at `lambda`), weights summing
   // to 1. One part, the pick, unless LambdaChoiceOptions::blend_every_basis
   // blends two; chosen_class and lambda are then the part of the larger
@@ -228,6 +244,18 @@ double BoundPixelNoise(double pixel_noise, const PixelGeometry& g, const std::ar
 // unknown pixel noise (kUnknownNoise) stays unknown: the cautious bound.
 double BoundNoise(double pixel_noise, const std::vector<ClassSpectrum>& classes, const Observation& obs, size_t pixels,
                   const LambdaChoiceOptions& opt);
+
+// The least share of the mean wedge's ‖y‖² a wedge is weighed as holding,
+// whatever the options say: a black wedge must not weigh without bound.
+constexpr double kLeastWedgeShare = 1e-12;
+
+// Each wedge's weight in the held-out score: with opt.relative_wedges, the
+// mean wedge's ‖y‖² over the wedge's own (the latter at least
+// opt.min_wedge_share of the former), so the score is the photo's ‖y‖² times
+// the wedges' mean relative squared error; else 1 for each. `all` gives the
+// photo's ‖y‖², `held` one Observation per wedge.
+std::vector<double> WedgeWeights(const Observation& all, const std::vector<Observation>& held,
+                                 const LambdaChoiceOptions& opt);
 
 // ResolveConditionBound for a photo of pixel noise `pixel_noise`, the bound
 // following BoundNoise over the candidate `classes`.

@@ -86,7 +86,9 @@ TEST(LambdaChoice, WedgesCoverTheSphereEvenlyAndTheirGramsAddUp) {
 TEST(LambdaChoice, CrossValidationScoreIsTheHeldOutErrorOfARefit) {
   // The score from the fold spectra must equal refitting on the other wedges'
   // pixels directly (dense, QR on the training rows) and measuring the wedge,
-  // with the folds' Q formed or kept as reflectors, for a class of one basis too.
+  // with the folds' Q formed or kept as reflectors, for a class of one basis
+  // too; each wedge's error as it is, or relative to the wedge's ‖y‖² (times
+  // the mean wedge's).
   const Scene s = MakeScene(10, 2);
   const int K = 4;
   Eigen::MatrixXd w = Eigen::MatrixXd::Constant(10, 3, 0.1);
@@ -99,29 +101,67 @@ TEST(LambdaChoice, CrossValidationScoreIsTheHeldOutErrorOfARefit) {
   opt.rule = "cv";
   opt.grid = {0.001, 0.1, 1.0};
   opt.max_condition = 1e300;
-  for (const FoldQ q : {FoldQ::kFormed, FoldQ::kReflectors}) {
-    SCOPED_TRACE(q == FoldQ::kFormed ? "Q formed" : "reflectors");
-    const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, K), members, q);
-    EXPECT_EQ(cv.train[0][0].Q[0].size() > 0, q == FoldQ::kFormed);
-    const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
-                                         FoldObservations(s.Y, y, fold, K), s.g.size(), opt);
-    for (size_t j = 0; j < members.size(); ++j)
-      for (size_t l = 0; l < opt.grid.size(); ++l) {
-        double want = 0;
-        for (int k = 0; k < K; ++k)
-          for (int c = 0; c < 3; ++c) {
+  for (const bool relative : {false, true})
+    for (const FoldQ q : {FoldQ::kFormed, FoldQ::kReflectors}) {
+      SCOPED_TRACE(q == FoldQ::kFormed ? "Q formed" : "reflectors");
+      SCOPED_TRACE(relative ? "relative wedges" : "wedges as they are");
+      opt.relative_wedges = relative;
+      const CvSystem cv = FactorFolds(f, FoldGrams(s.Y, fold, K), members, q);
+      EXPECT_EQ(cv.train[0][0].Q[0].size() > 0, q == FoldQ::kFormed);
+      const LambdaChoice ch = ChooseLambda(f, FactorClasses(f, members), &cv, MakeObservation(f, s.Y, y),
+                                           FoldObservations(s.Y, y, fold, K), s.g.size(), opt);
+      for (size_t j = 0; j < members.size(); ++j)
+        for (size_t l = 0; l < opt.grid.size(); ++l) {
+          double want = 0;
+          for (int k = 0; k < K; ++k) {
             std::vector<int> train, test;
             for (size_t p = 0; p < fold.size(); ++p) (fold[p] == k ? test : train).push_back(static_cast<int>(p));
-            const Eigen::MatrixXd A = s.Y[c].cast<double>()(train, members[j]);
-            const Eigen::VectorXd b = y.col(c)(train);
-            const double cj = static_cast<double>(members[j].size());
-            const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
-            const Eigen::VectorXd wj = SolveRidge(A, b, opt.grid[l] * b.squaredNorm() / cj, prior);
-            want += (s.Y[c].cast<double>()(test, members[j]) * wj - y.col(c)(test)).squaredNorm();
+            const double weight = relative ? y.squaredNorm() / K / y(test, Eigen::all).squaredNorm() : 1.0;
+            for (int c = 0; c < 3; ++c) {
+              const Eigen::MatrixXd A = s.Y[c].cast<double>()(train, members[j]);
+              const Eigen::VectorXd b = y.col(c)(train);
+              const double cj = static_cast<double>(members[j].size());
+              const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
+              const Eigen::VectorXd wj = SolveRidge(A, b, opt.grid[l] * b.squaredNorm() / cj, prior);
+              want += weight * (s.Y[c].cast<double>()(test, members[j]) * wj - y.col(c)(test)).squaredNorm();
+            }
           }
-        EXPECT_NEAR(ch.score[j][l], want, 1e-7 * want) << "class " << j << " lambda " << opt.grid[l];
-      }
+          EXPECT_NEAR(ch.score[j][l], want, 1e-7 * want) << "class " << j << " lambda " << opt.grid[l];
+        }
+    }
+}
+
+TEST(LambdaChoice, ADarkWedgeWeighsAsTheNoiseFloorItHolds) {
+  // One wedge black, the others lit alike: the lit ones weigh the mean wedge's
+  // ‖y‖² over their own, the black one as holding the floor's share.
+  const Scene s = MakeScene(3, 4);
+  const int K = 4;
+  const std::vector<int> fold = WedgeFolds(s.g, K);
+  Eigen::MatrixXd y = Render(s, Eigen::MatrixXd::Constant(3, 3, 0.3));
+  for (size_t p = 0; p < fold.size(); ++p)
+    if (fold[p] == 2) y.row(static_cast<Eigen::Index>(p)).setZero();
+  const auto f = FactorBasisImages(s.Y);
+  const Observation obs = MakeObservation(f, s.Y, y);
+  const std::vector<Observation> held = FoldObservations(s.Y, y, fold, K);
+  const double relative_noise = 0.01;
+  const LambdaChoiceOptions opt = ResolveConditionBound(LambdaChoiceOptions{}, relative_noise);
+  EXPECT_EQ(opt.min_wedge_share, relative_noise * relative_noise) << "a wedge's noise holds ε² of the mean wedge";
+  const std::vector<double> w = WedgeWeights(obs, held, opt);
+  const double mean = y.squaredNorm() / K;
+  ASSERT_EQ(w.size(), 4u);
+  for (int k = 0; k < K; ++k) {
+    std::vector<int> in;
+    for (size_t p = 0; p < fold.size(); ++p)
+      if (fold[p] == k) in.push_back(static_cast<int>(p));
+    const double want = k == 2 ? 1 / opt.min_wedge_share : mean / y(in, Eigen::all).squaredNorm();
+    EXPECT_NEAR(w[k], want, 1e-9 * want) << "wedge " << k;
   }
+  // Each wedge as it is, and an unknown noise's cautious floor of a tenth.
+  LambdaChoiceOptions plain = opt;
+  plain.relative_wedges = false;
+  for (double x : WedgeWeights(obs, held, plain)) EXPECT_EQ(x, 1);
+  const LambdaChoiceOptions unknown = ResolveConditionBound(LambdaChoiceOptions{}, kUnknownNoise);
+  EXPECT_NEAR(WedgeWeights(obs, held, unknown)[2], 10, 1e-9);
 }
 
 TEST(LambdaChoice, GcvScoreMatchesTheDenseHatMatrix) {
@@ -533,6 +573,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.condition_bound = 1.44e6;
   r.bound_noise = 0.0004;
   r.sensitivity_penalty = 1;
+  r.min_wedge_share = 1.3e-5;
   r.parts = {{1, 0.03, 0.75, 0.041, std::nan(""), 0.037}, {2, 1e-4, 0.25, 0.05, std::nan(""), 0.033}};
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
@@ -542,6 +583,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   EXPECT_EQ(back.condition_bound, 1.44e6);
   EXPECT_EQ(back.bound_noise, 0.0004);
   EXPECT_EQ(back.sensitivity_penalty, 1);
+  EXPECT_EQ(back.min_wedge_share, 1.3e-5);
   // A fit made without the tables has no sensitivity: none is written, and a
   // file without one reads as not measured.
   nlohmann::json unmeasured = r.ToJson();

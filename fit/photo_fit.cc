@@ -158,6 +158,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.bound_noise = f.bound_noise;
   r.condition_bound = f.choice.condition_bound;
   r.sensitivity_penalty = f.choice.sensitivity_penalty;
+  r.min_wedge_share = f.choice.min_wedge_share;
   r.chosen_class = f.fit.chosen;
   r.parts = f.choice.parts;
   r.relative_residual = f.relative_residual;
@@ -233,14 +234,18 @@ nlohmann::json FitRecord::ToJson() const {
       {"relative_pixel_noise", relative_noise},
       {"bound_noise", bound_noise},
       {"sensitivity_penalty", sensitivity_penalty},
+      {"min_wedge_share", min_wedge_share},
       {"condition_bound", condition_bound},
       {"why", lambda_beyond_condition_bound
                   ? "no lambda of the grid kept any class within the condition bound: the grid's largest, the class "
                     "scoring best there"
               : lambda_rule == "cv" && sensitivity_penalty > 0
-                  ? "smallest held-out error over wedges of the sphere times (1 + sensitivity_penalty x the "
-                    "candidate's prior sensitivity)^2, any candidate class, among the lambdas within the condition "
-                    "bound"
+                  ? std::string("smallest held-out error over wedges of the sphere") +
+                        (min_wedge_share >= 0 ? " (each relative to its own signal, at least min_wedge_share of "
+                                                "the mean wedge's)"
+                                              : "") +
+                        " times (1 + sensitivity_penalty x the candidate's prior sensitivity)^2, any candidate "
+                        "class, among the lambdas within the condition bound"
               : lambda_rule == "cv"  ? "smallest held-out error over wedges of the sphere, any class, among the "
                                        "lambdas within the condition bound"
               : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class, among the lambdas "
@@ -291,6 +296,7 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     r.bound_noise = j.at("lambda_choice").value("bound_noise", -1.0);
     r.condition_bound = j.at("lambda_choice").value("condition_bound", -1.0);
     r.sensitivity_penalty = j.at("lambda_choice").value("sensitivity_penalty", 0.0);
+    r.min_wedge_share = j.at("lambda_choice").at("min_wedge_share");
     for (const auto& row : j.at("lambda_choice").at("score_per_class")) {
       std::vector<double> v;
       for (const auto& x : row) v.push_back(FromFinite(x));
