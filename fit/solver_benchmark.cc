@@ -128,20 +128,26 @@ void BM_SolveFixedLambda(benchmark::State& state) {
 }
 BENCHMARK(BM_SolveFixedLambda)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_SolveWithLambdaChoice(benchmark::State& state) {  // `fit`'s default: noise, bound, wedge pick
+// `fit`'s default: noise, bound, wedge pick; the argument is
+// LambdaChoiceOptions::relative_wedges (1: the default).
+void BM_SolveWithLambdaChoice(benchmark::State& state) {
   const Problem& p = TheProblem();
   const ChoiceFactors x = FactorForChoice(p);
   const auto& [fold, f, classes, cv, metrics] = x;
   for (auto _ : state) {
     const std::vector<Observation> held = FoldObservations(p.Y, p.y, fold, kDefaultWedges);
     const Observation obs = SumObservations(held);
-    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), DefaultBound(p, x, obs), &metrics);
+    LambdaChoiceOptions opt = DefaultBound(p, x, obs);
+    opt.relative_wedges = state.range(0) != 0;
+    const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, p.g.size(), opt, &metrics);
     for (const LambdaChoice::Part& part : ch.parts)  // every part of a blend
       benchmark::DoNotOptimize(SolveClass(f, classes[part.cls], obs, part.lambda));
     state.counters["parts"] = static_cast<double>(ch.parts.size());
+    state.counters["class"] = ch.chosen_class;
+    state.counters["lambda"] = ch.lambda;
   }
 }
-BENCHMARK(BM_SolveWithLambdaChoice)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SolveWithLambdaChoice)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The choice's three parts, each alone: projecting the photo by wedge (one
 // pass over the basis images), its pixel-noise estimate, and scoring the
