@@ -353,11 +353,13 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     for (size_t l = 0; l < opt.grid.size(); ++l)
       if (!within[j][l]) out.score[j][l] = inf;
   double best = inf;
-  // With the blend, the part of the other group: its raw held-out score
-  // (+inf: none), class and λ.
-  double other_best = inf;
-  int other_class = -1;
-  double other_lambda = 0, chosen_penalised = inf, other_penalised = inf;
+  // A group's best candidate under the penalty: its penalised and raw
+  // held-out scores, class and λ (+inf scores: none).
+  struct Best {
+    double penalised = std::numeric_limits<double>::infinity(), score = penalised;
+    size_t cls = 0, l = 0;
+  };
+  Best chosen, other;  // the pick, and with the blend the other group's best
   if (opt.rule == "cv" && opt.sensitivity_penalty > 0 && metrics) {
     BRDFSHOT_CHECK(metrics->size() == classes.size(), "one BRDF metric per class");
     // Group 1 is every basis (the last candidate) where the blend asks for
@@ -375,29 +377,23 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     std::sort(order.begin(), order.end());
     out.sensitivity.assign(classes.size(), std::vector<double>(opt.grid.size(), std::nan("")));
     out.sensitivity_penalty = opt.sensitivity_penalty;
-    std::array<double, 2> penalised_of{inf, inf}, score_of{inf, inf};
-    std::array<size_t, 2> class_of{0, 0}, lambda_of{0, 0};
+    std::array<Best, 2> of;
     for (const auto& [score, at] : order) {
-      if (score >= *std::max_element(penalised_of.begin(), penalised_of.begin() + groups)) break;
+      if (score >= std::max(of[0].penalised, groups == 2 ? of[1].penalised : 0.0)) break;
       const auto [j, l] = at;
-      const int g = blend && j == every ? 1 : 0;
-      if (score >= penalised_of[g]) continue;
+      Best& group = of[blend && j == every ? 1 : 0];
+      if (score >= group.penalised) continue;
       const double s = PriorSensitivity(classes[j], obs, opt.grid[l], (*metrics)[j]);
       out.sensitivity[j][l] = s;
       const double factor = 1 + opt.sensitivity_penalty * s;
       const double penalised = score * factor * factor;
-      if (penalised < penalised_of[g])
-        penalised_of[g] = penalised, score_of[g] = score, class_of[g] = j, lambda_of[g] = l;
+      if (penalised < group.penalised) group = {penalised, score, j, l};
     }
-    const int won = penalised_of[1] < penalised_of[0] ? 1 : 0;
-    if (penalised_of[won] < inf) {
-      best = score_of[won], chosen_penalised = penalised_of[won];
-      out.chosen_class = static_cast<int>(class_of[won]), out.lambda = opt.grid[lambda_of[won]];
-    }
-    if (blend && penalised_of[1 - won] < inf) {
-      other_best = score_of[1 - won], other_penalised = penalised_of[1 - won];
-      other_class = static_cast<int>(class_of[1 - won]), other_lambda = opt.grid[lambda_of[1 - won]];
-    }
+    const int won = of[1].penalised < of[0].penalised ? 1 : 0;
+    chosen = of[won];
+    if (blend) other = of[1 - won];
+    if (chosen.penalised < inf)
+      best = chosen.score, out.chosen_class = static_cast<int>(chosen.cls), out.lambda = opt.grid[chosen.l];
   } else {
     for (size_t j = 0; j < classes.size(); ++j)
       for (size_t l = 0; l < opt.grid.size(); ++l)
@@ -457,20 +453,21 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   // Weights ∝ 1 / penalised score: inverse-variance weights, each score read
   // as its part's squared error; written so that a zero score (a photo the
   // part fits exactly) takes the whole weight.
-  if (other_class >= 0 && chosen_penalised > 0 &&
-      chosen_penalised / (chosen_penalised + other_penalised) >= opt.min_blend_weight) {
-    LambdaChoice::Part other{other_class,
-                             other_lambda,
-                             0,
-                             0,
-                             SensitivityAt(out, other_class, other_lambda),
-                             std::sqrt(other_best / std::max(total, 1e-300))};
-    other.predicted_error = weighed(other.held_out_error, other.sensitivity);
-    other.weight = chosen_penalised / (chosen_penalised + other_penalised);
-    out.parts[0].weight = 1 - other.weight;
-    out.parts.push_back(other);
-    out.predicted_error = out.parts[0].weight * out.parts[0].predicted_error + other.weight * other.predicted_error;
-    out.held_out_error = out.parts[0].weight * out.parts[0].held_out_error + other.weight * other.held_out_error;
+  if (other.penalised < inf && chosen.penalised < inf && chosen.penalised > 0 &&
+      chosen.penalised / (chosen.penalised + other.penalised) >= opt.min_blend_weight) {
+    const double lambda = opt.grid[other.l];
+    LambdaChoice::Part part{static_cast<int>(other.cls),
+                            lambda,
+                            0,
+                            0,
+                            SensitivityAt(out, static_cast<int>(other.cls), lambda),
+                            std::sqrt(other.score / std::max(total, 1e-300))};
+    part.predicted_error = weighed(part.held_out_error, part.sensitivity);
+    part.weight = chosen.penalised / (chosen.penalised + other.penalised);
+    out.parts[0].weight = 1 - part.weight;
+    out.parts.push_back(part);
+    out.predicted_error = out.parts[0].weight * out.parts[0].predicted_error + part.weight * part.predicted_error;
+    out.held_out_error = out.parts[0].weight * out.parts[0].held_out_error + part.weight * part.held_out_error;
   }
   return out;
 }
