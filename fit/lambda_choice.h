@@ -164,8 +164,8 @@ struct LambdaChoice {
   std::vector<double> grid;
   // Relative held-out RMSE of the chosen (class, λ): √(error / Σ‖y‖²) over
   // the wedges when folds are given, each wedge's error weighed by
-  // WedgeWeights (with relative wedges the root of their mean relative
-  // squared error; else GCV's estimate): the fit's error on pixels it was not
+  // WedgeWeights (with relative wedges, the root of their mean relative
+  // squared error), else GCV's estimate: the fit's error on pixels it was not
   // fitted to.
   double held_out_error = 0;
   // The fit's predicted error on lighting it was not fitted to: the held-out
