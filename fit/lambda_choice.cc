@@ -472,6 +472,16 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   return out;
 }
 
+double BlendedPriorSensitivity(const LambdaChoice& choice, const std::vector<ClassSpectrum>& classes,
+                               const Observation& obs, const std::function<Eigen::MatrixXd(int cls)>& metric) {
+  double s = 0;
+  for (const LambdaChoice::Part& part : choice.parts)
+    s += part.weight * (std::isnan(part.sensitivity)
+                            ? PriorSensitivity(classes.at(part.cls), obs, part.lambda, metric(part.cls))
+                            : part.sensitivity);
+  return s;
+}
+
 namespace {
 // The candidate with the most members (every basis, where it is one): the
 // fit whose residual bounds the noise. The first of equals.

@@ -26,6 +26,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <array>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -285,5 +286,12 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
                           size_t pixels, const LambdaChoiceOptions& opt,
                           const std::vector<Eigen::MatrixXd>* metrics = nullptr);
+
+// The fit's prior sensitivity: its parts' PriorSensitivity weighted by their
+// weights, each the λ choice's own where its penalty computed it (the same
+// metric) and else computed with `metric(cls)`, the BRDF metric over class
+// cls's members.
+double BlendedPriorSensitivity(const LambdaChoice& choice, const std::vector<ClassSpectrum>& classes,
+                               const Observation& obs, const std::function<Eigen::MatrixXd(int cls)>& metric);
 
 }  // namespace brdfshot

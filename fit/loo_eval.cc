@@ -270,9 +270,10 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
   row.method = method.name;
   row.chosen_class = method.chosen_class;
   const std::string name = method.name;
-  if (name.rfind("auto", 0) == 0)
+  if (name.rfind("auto", 0) == 0) {
     row.lambda = choice.lambda, row.predicted = choice.predicted_error, row.held_out = choice.held_out_error;
-  row.condition_bound = choice.condition_bound;
+    row.condition_bound = choice.condition_bound;
+  }
   if (name == "ours" || name == "paper") row.lambda = fixed_lambda;
   return row;
 }
@@ -306,8 +307,6 @@ AutoFit SolveChoice(const LooInputs& in, WeightConstraint::Kind kind, const std:
                     std::map<int, BinRows>* bins_of_class, bool with_sensitivity) {
   BRDFSHOT_CHECK(!choice.parts.empty(), "a choice without parts");
   AutoFit out;
-  const bool sensitivity = with_sensitivity && in.gram_cos.rows() == f[0].gram.rows();
-  if (sensitivity) out.prior_sensitivity = 0;
   for (const LambdaChoice::Part& part : choice.parts) {
     const ClassSpectrum& cls = classes.at(part.cls);
     const ClassSolution s = SolveAuto(in, kind, f, obs, cls, part.lambda, bins_of_class, part.cls);
@@ -319,13 +318,12 @@ AutoFit SolveChoice(const LooInputs& in, WeightConstraint::Kind kind, const std:
       out.weights += part.weight * s.weights;
       out.signed_weights += part.weight * signed_weights;
     }
-    // The λ choice's own where its penalty computed it: the same metric, in.gram_cos over the members.
-    if (sensitivity)
-      out.prior_sensitivity +=
-          part.weight * (std::isnan(part.sensitivity)
-                             ? PriorSensitivity(cls, obs, part.lambda, in.gram_cos(cls.members, cls.members))
-                             : part.sensitivity);
   }
+  if (with_sensitivity && in.gram_cos.rows() == f[0].gram.rows())
+    out.prior_sensitivity = BlendedPriorSensitivity(choice, classes, obs, [&](int j) {
+      const std::vector<int>& J = classes[static_cast<size_t>(j)].members;
+      return Eigen::MatrixXd(in.gram_cos(J, J));
+    });
   return out;
 }
 
@@ -476,9 +474,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
                                      in.scenes[b].probe + " (" + pair + ")"};
       for (int i = 0; i < 3; ++i) {
         LooRow row = MethodRow(methods[i], in.materials[m], probes[i], choice, opt.lambda);
-        if (i > 0)
-          row.lambda = row.predicted = row.held_out = row.condition_bound =
-              -1;  // the single fits' own are in their "auto" rows
+        if (i > 0)  // the single fits' own are in their "auto" rows
+          row.lambda = row.predicted = row.held_out = row.condition_bound = -1;
         ScoreRelitExcept(
             in.scenes, {a, b},
             [&](int s) {

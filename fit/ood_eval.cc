@@ -215,9 +215,8 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
                                      bases.scenes[b].probe + " (" + pair + ")"};
       for (int i = 0; i < 3; ++i) {
         LooRow row = MethodRow(methods[i], targets[t], probes[i], choice, opt.lambda);
-        if (i > 0)
-          row.lambda = row.predicted = row.held_out = row.condition_bound =
-              -1;  // the single fits' own are in their "auto" rows
+        if (i > 0)  // the single fits' own are in their "auto" rows
+          row.lambda = row.predicted = row.held_out = row.condition_bound = -1;
         ScoreRelitExcept(
             bases.scenes, {a, b},
             [&](int s) { return TargetError(bases.scenes[s].f.data(), scenes[s], methods[i].w, t); }, &row);

@@ -116,16 +116,12 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
                                                         &bins[i], &out.fit.classes[part.cls]);
     }
   out.seconds_table_check = check.Seconds();
-  if (!metrics.empty()) out.prior_sensitivity = 0;
   out.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(every_basis.size()), 3);
-  for (const LambdaChoice::Part& part : out.choice.parts) {
+  for (const LambdaChoice::Part& part : out.choice.parts)
     out.weights += part.weight * out.fit.classes[part.cls].weights;
-    if (!metrics.empty())  // the λ choice's own where its penalty computed it (the same metric)
-      out.prior_sensitivity +=
-          part.weight * (std::isnan(part.sensitivity)
-                             ? PriorSensitivity(classes[part.cls], obs, part.lambda, metrics[part.cls])
-                             : part.sensitivity);
-  }
+  if (!metrics.empty())
+    out.prior_sensitivity =
+        BlendedPriorSensitivity(out.choice, classes, obs, [&](int cls) { return metrics[static_cast<size_t>(cls)]; });
   const Eigen::MatrixXd& w = out.weights;
   out.reconstruction.resize(y.rows(), 3);
   for (int c = 0; c < 3; ++c) out.reconstruction.col(c) = basis.Y[c].cast<double>() * w.col(c);
