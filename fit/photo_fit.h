@@ -97,8 +97,8 @@ struct FitRecord {
   double min_wedge_share = -1;     // LambdaChoice::min_wedge_share (-1: each wedge's error as it is)
   int chosen_class = -1;
   // The fit's parts (LambdaChoice::parts): class, λ, weight, predicted and
-  // held-out error;
-  // none is written as the pick alone (chosen_class at lambda, weight 1).
+  // held-out error; none is written as the pick alone (chosen_class at
+  // lambda, weight 1).
   std::vector<LambdaChoice::Part> parts;
   double relative_residual = 0;
   struct ClassRow {
