@@ -42,6 +42,7 @@ int BenchDetectMain(int argc, char** argv);
 int RenderMain(int argc, char** argv);
 int FitMain(int argc, char** argv);
 int CompareMain(int argc, char** argv);
+int ScoreMain(int argc, char** argv);
 int BenchBasisMain(int argc, char** argv);
 int MergeMain(int argc, char** argv);
 int MergeCheckMain(int argc, char** argv);

@@ -41,6 +41,8 @@ const std::vector<Command>& Commands() {
        "one capture's results as markdown + pictures: photo, sphere, class and residuals, relit vs truth, stage times",
        ReportMain},
       {"compare", "relative RMSE of one linear image against a reference", CompareMain},
+      {"score", "a fit's relit error on a photo it was not fitted to (the same object under another light)",
+       ScoreMain},
       {"bench-merge", "HDR merge against ground truth, beside OpenCV's Debevec and Robertson", BenchMergeMain, true},
       {"bench-detect", "sphere detection vs known truth, beside OpenCV HoughCircles alone (error and time)",
        BenchDetectMain, true},

@@ -74,6 +74,21 @@ assert len(f["lambda_choice"]["score_per_class"]) == len(f["classes"])
 b, p = f["lambda_choice"]["bound_noise"], f["lambda_choice"]["relative_pixel_noise"]
 assert 0 <= b <= p, (b, p)
 PY
+# A fit scored on a photo under another probe (the fit's weights on that photo's
+# basis images) against rendering the fit there and comparing: two routes to
+# the relit error. The Lambert + GGX baseline is not exact, so its error is one
+# both routes must find.
+P2="$DATA/envmaps/forest_256.exr"
+check render-other 0 "wrote" -- "$B" render --standin demo-steel $DB --probe "$P2" --sphere 48 -o "$T/photo2.exr"
+check basis-other 0 "wrote" -- "$B" basis $DB --probe "$P2" --sphere 48 -o "$T/b2.bsbi"
+check score 0 "held-out photo" -- "$B" score --fit "$T/fit/fit.json" --basis "$T/b2.bsbi" --photo "$T/photo2.exr"
+line=$("$B" score --fit "$T/fit/fit.json" --basis "$T/b2.bsbi" --photo "$T/photo2.exr" --tsv)
+"$B" render --merl "$T/fit/lambert_ggx.binary" --probe "$P2" --sphere 48 -o "$T/lggx2.exr" >/dev/null 2>&1
+lg=$("$B" compare "$T/photo2.exr" "$T/lggx2.exr" | sed 's/relative RMSE \([0-9.]*\).*/\1/')
+awk -v f="$(cut -f4 <<<"$line")" -v s="$(cut -f6 <<<"$line")" -v c="$lg" 'BEGIN{exit !(f < 0.05 && c > 0.005 && s > 0.8 * c && s < 1.2 * c)}' \
+  && pass=$((pass+1)) || { echo "FAIL score $line against render + compare $lg"; fail=$((fail+1)); }
+check score-no-photo 1 "give one of --obs and --photo" -- "$B" score --fit "$T/fit/fit.json" --basis "$T/b2.bsbi"
+check score-photo-size 1 "basis images are for" -- "$B" score --fit "$T/fit/fit.json" --basis "$T/b2.bsbi" --photo "$PROBE"
 check fit-fixed 0 "(fixed)" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda 0.5 --preview-probes "$PROBE" -o "$T/fitl"
 grep -q '"lambda": 0.5' "$T/fitl/fit.json" && pass=$((pass+1)) || { echo "FAIL --lambda 0.5 not recorded"; fail=$((fail+1)); }
 check fit-bad-rule 1 "unknown --lambda-rule 'best'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-rule best -o "$T/fitb1"
