@@ -81,18 +81,40 @@ struct EvalArgs {
     return eo;
   }
 
+  // How the auto method bounds and weighs its candidates; part of the settings, so that
+  // shards of runs that choose differently are never merged.
+  static std::string ChoiceSettings(const LambdaChoiceOptions& c) {
+    std::ostringstream s;
+    s << (c.all_bases_candidate ? " (the classes and every basis" : " (the classes");
+    if (c.sensitivity_penalty > 0) {
+      s << "; sensitivity penalty " << c.sensitivity_penalty;
+      if (c.penalty_gate >= 0) s << " within " << c.penalty_gate << " standard errors";
+      if (c.blend_every_basis && c.all_bases_candidate) s << "; blend down to weight " << c.min_blend_weight;
+    }
+    s << (c.relative_wedges ? "; wedges relative" : "; wedges as they are");
+    if (c.max_condition > 0)
+      s << "; condition bound " << c.max_condition;
+    else
+      s << "; condition bound from the " << (c.noise_bound.read_fit_residual ? "lesser noise reading" : "photo's noise")
+        << ", margin " << c.noise_bound.margin << ", within [" << c.noise_bound.min_bound << ", "
+        << c.noise_bound.max_bound << "]";
+    s << ")";
+    return s.str();
+  }
+
   // What the markdown states about the run.
   std::string Settings(const Evaluation& ev) const {
     std::ostringstream s;
     s << "database **" << ev.database_label << "** (" << ev.materials.size() << " materials, grid " << ev.grid.n_th
       << "x" << ev.grid.n_td << "x" << ev.grid.n_pd << "); sphere " << eo.sphere << " px (" << ev.pixels
       << " pixels, margin " << eo.margin << "°); quality " << eo.quality.Describe() << "; auto: λ by "
-      << eo.loo.choice.rule << " over " << eo.folds << " wedges, constraint: " << ConstraintName(eo.loo.constraint)
+      << eo.loo.choice.rule << " over " << eo.folds << " wedges" << ChoiceSettings(eo.loo.choice)
+      << ", constraint: " << ConstraintName(eo.loo.constraint)
       << (eo.loo.constraint != WeightConstraint::Kind::kBins ? ""
           : eo.check_whole_table                             ? " (the whole table checked)"
                                                              : " (every 31st bin only)")
-      << "; ours and paper: λ = " << eo.loo.lambda << "; N = " << eo.loo.gmm.dims << ", K = " << eo.loo.gmm.classes << " on the " << eo.class_features
-      << " tables";
+      << "; ours and paper: λ = " << eo.loo.lambda << "; N = " << eo.loo.gmm.dims << ", K = " << eo.loo.gmm.classes
+      << " on the " << eo.class_features << " tables";
     return s.str();
   }
 };

@@ -111,6 +111,9 @@ void AddConditionBoundOptions(po::options_description& d, LambdaChoiceOptions* c
        "1: besides the model's classes, every basis is one more candidate class of the λ choice; 0: the classes only")
       ("sensitivity-penalty", po::value(&choice->sensitivity_penalty)->default_value(choice->sensitivity_penalty),
        "a: the wedges' error of each candidate is multiplied by (1 + a × its prior sensitivity) (docs/method.md); 0: not")
+      ("penalty-gate", po::value(&choice->penalty_gate)->default_value(choice->penalty_gate),
+       "z: with the penalty, a candidate competes only while its wedges' error exceeds its group's least by at most z "
+       "standard errors of the per-wedge differences (docs/method.md); < 0: every candidate")
       ("relative-wedges", po::value(&choice->relative_wedges)->default_value(choice->relative_wedges),
        "1: each wedge's held-out error counts relative to the wedge's own signal (docs/method.md); 0: as it is")
       ("blend", po::value(&choice->blend_every_basis)->default_value(choice->blend_every_basis),
@@ -128,6 +131,7 @@ void CheckConditionBound(const LambdaChoiceOptions& choice) {
     throw Error("--noise-margin must be positive");
   if (!(choice.min_blend_weight >= 0 && choice.min_blend_weight <= 0.5))
     throw Error("--min-blend-weight must lie in [0, 0.5]");
+  if (std::isnan(choice.penalty_gate)) throw Error("--penalty-gate must be a number");
   if (!(choice.sensitivity_penalty >= 0 && std::isfinite(choice.sensitivity_penalty)))
     throw Error("--sensitivity-penalty must be finite and ≥ 0");
   if (!(choice.noise_bound.max_bound >= 1 && std::isfinite(choice.noise_bound.max_bound)))

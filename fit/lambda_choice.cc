@@ -270,6 +270,17 @@ std::vector<std::vector<int>> CandidateMembers(const std::vector<std::vector<int
   return out;
 }
 
+bool WithinStandardErrors(const std::vector<double>& d, double z) {
+  const double K = static_cast<double>(d.size());
+  if (d.size() < 2) return true;
+  double mean = 0;
+  for (double v : d) mean += v;
+  mean /= K;
+  double ss = 0;
+  for (double v : d) ss += (v - mean) * (v - mean);
+  return mean <= z * std::sqrt(ss / (K - 1) / K);
+}
+
 LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vector<ClassSpectrum>& classes,
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
                           size_t pixels, const LambdaChoiceOptions& opt, const std::vector<Eigen::MatrixXd>* metrics) {
@@ -316,6 +327,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     }
   }
   std::vector<std::vector<double>> unbounded(classes.size(), std::vector<double>(opt.grid.size(), inf));
+  std::vector<std::vector<double>> per_fold;  // rule cv: [class · K + wedge][λ], each wedge's weighed error
   if (cv) BRDFSHOT_CHECK(cv->train.size() == held.size() && !held.empty() && cv->train[0].size() == classes.size());
   if (opt.rule == "cv") {
     // The wedges' held-out error of every class at its scored λ: one task per
@@ -323,7 +335,7 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     // tasks fill in beside the large ones'.
     BRDFSHOT_CHECK(cv, "rule cv needs the folds");
     const int K = static_cast<int>(held.size()), J = static_cast<int>(classes.size());
-    std::vector<std::vector<double>> per_fold(static_cast<size_t>(J) * K, std::vector<double>(opt.grid.size(), 0.0));
+    per_fold.assign(static_cast<size_t>(J) * K, std::vector<double>(opt.grid.size(), 0.0));
     const std::vector<double> weight = WedgeWeights(obs, held, opt);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int q = 0; q < J * K; ++q) {
@@ -377,12 +389,26 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     std::sort(order.begin(), order.end());
     out.sensitivity.assign(classes.size(), std::vector<double>(opt.grid.size(), std::nan("")));
     out.sensitivity_penalty = opt.sensitivity_penalty;
+    out.penalty_gate = opt.penalty_gate >= 0 ? opt.penalty_gate : -1;
     std::array<Best, 2> of;
+    // Each group's least held-out error comes first in `order`: the gate's reference.
+    std::array<std::pair<size_t, size_t>, 2> least{};
+    std::array<bool, 2> seen{false, false};
+    const size_t K = held.size();
     for (const auto& [score, at] : order) {
       if (score >= std::max(of[0].penalised, groups == 2 ? of[1].penalised : 0.0)) break;
       const auto [j, l] = at;
-      Best& group = of[blend && j == every ? 1 : 0];
+      const int g = blend && j == every ? 1 : 0;
+      Best& group = of[g];
       if (score >= group.penalised) continue;
+      if (!seen[g]) {
+        seen[g] = true, least[g] = at;
+      } else if (opt.penalty_gate >= 0 && K >= 2) {
+        std::vector<double> d(K);
+        for (size_t k = 0; k < K; ++k)
+          d[k] = per_fold[j * K + k][l] - per_fold[least[g].first * K + k][least[g].second];
+        if (!WithinStandardErrors(d, opt.penalty_gate)) continue;
+      }
       const double s = PriorSensitivity(classes[j], obs, opt.grid[l], (*metrics)[j]);
       out.sensitivity[j][l] = s;
       const double factor = 1 + opt.sensitivity_penalty * s;

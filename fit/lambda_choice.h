@@ -113,6 +113,15 @@ struct LambdaChoiceOptions {
   // sensitivity sees how much of the BRDF the prior, not the photo, decides,
   // which is what another lighting shows (docs/method.md).
   double sensitivity_penalty = 1;
+  // The penalty weighs only candidates the wedges do not find clearly worse
+  // than their group's best by held-out error: by at most this many standard
+  // errors of the per-wedge differences (paired: every wedge scores both
+  // fits, and wedges differ far more from each other than two fits differ on
+  // one). A rigid candidate (a small class) moves little with λ, so its
+  // sensitivity is small whether or not it fits the photo; without the gate
+  // its factor can outweigh a held-out error several times the best one's,
+  // on every wedge. < 0: no gate.
+  double penalty_gate = 1;
   // Each wedge's held-out error counted relative to its own signal
   // (WedgeWeights): the relit error is relative under every lighting, and a
   // wedge that holds a small bright source's highlight would otherwise decide
@@ -181,6 +190,7 @@ struct LambdaChoice {
   // penalty needed it (NaN elsewhere); empty without the penalty.
   std::vector<std::vector<double>> sensitivity;
   double sensitivity_penalty = 0;  // the weight a of the penalty the pick was made with (0: none)
+  double penalty_gate = -1;        // the penalty's gate z (LambdaChoiceOptions::penalty_gate); -1: none
   // The wedges' errors counted relative to their own signal, a wedge at least
   // this share of the mean wedge (LambdaChoiceOptions::relative_wedges); -1:
   // each wedge's error as it is, or no wedges.
@@ -259,6 +269,11 @@ constexpr double kLeastWedgeShare = 1e-12;
 // photo's ‖y‖², `held` one Observation per wedge.
 std::vector<double> WedgeWeights(const Observation& all, const std::vector<Observation>& held,
                                  const LambdaChoiceOptions& opt);
+
+// Whether per-wedge differences `d` average at most z standard errors of
+// their mean (the sample deviation over √K) above zero: a one-sided paired
+// comparison of two fits on the same wedges. True for fewer than two.
+bool WithinStandardErrors(const std::vector<double>& d, double z);
 
 // ResolveConditionBound for a photo of pixel noise `pixel_noise`, the bound
 // following BoundNoise over the candidate `classes`.

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <Eigen/LU>
 #include <cmath>
 #include <limits>
@@ -339,10 +341,11 @@ struct PenaltyCase {
   Observation obs;
   std::vector<Observation> held;
   std::vector<Eigen::MatrixXd> metrics;
+  Eigen::MatrixXd y;
   PenaltyCase() {
     Eigen::MatrixXd truth = Eigen::MatrixXd::Constant(10, 3, 0.1);
     truth(2, 0) = 0.5, truth(7, 2) = 0.3;
-    const Eigen::MatrixXd y = NoisyRender(s, truth, 0.03, 12);
+    y = NoisyRender(s, truth, 0.03, 12);
     x = FoldScene(s, members, 4);
     classes = FactorClasses(x.f, members);
     obs = MakeObservation(x.f, s.Y, y);
@@ -360,13 +363,14 @@ struct PenaltyCase {
 // strong prior compete.
 TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
   const PenaltyCase c;
-  const auto& [members, s, x, classes, obs, held, metrics] = c;
+  const auto& [members, s, x, classes, obs, held, metrics, y] = c;
   const auto& [fold, f, cv] = x;
   for (double a : {0.0, 1.0, 20.0}) {
     SCOPED_TRACE(a);
     LambdaChoiceOptions opt;
     opt.max_condition = 1e9;
     opt.sensitivity_penalty = a;
+    opt.penalty_gate = -1;  // every candidate (the gate has its own test)
     const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), opt, &metrics);
     double best = std::numeric_limits<double>::infinity();
     int best_j = -1;
@@ -386,15 +390,95 @@ TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
   LambdaChoiceOptions none, strong;
   none.max_condition = strong.max_condition = 1e9;
   none.sensitivity_penalty = 0, strong.sensitivity_penalty = 20;
+  strong.penalty_gate = -1;
   const LambdaChoice plain = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), none, &metrics);
   const LambdaChoice penalised = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), strong, &metrics);
   EXPECT_TRUE(plain.sensitivity.empty()) << "no penalty, no sensitivities";
   EXPECT_TRUE(penalised.chosen_class != plain.chosen_class || penalised.lambda > plain.lambda);
 }
 
+TEST(LambdaChoice, WithinStandardErrorsIsAOneSidedPairedComparison) {
+  EXPECT_TRUE(WithinStandardErrors({-1, -1}, 0));      // better on every wedge
+  EXPECT_FALSE(WithinStandardErrors({1, 1, 1}, 100));  // worse on every wedge by the same: no spread to hide in
+  // Mean 2, sample deviation √2, standard error of the mean √2 / √2 = 1.
+  EXPECT_TRUE(WithinStandardErrors({1, 3}, 2));
+  EXPECT_FALSE(WithinStandardErrors({1, 3}, 1.9));
+  EXPECT_TRUE(WithinStandardErrors({5}, 0));  // one wedge: nothing to compare by
+}
+
+// The gate against a brute force: each wedge's held-out error of every
+// candidate by a dense refit on the other wedges (as
+// CrossValidationScoreIsTheHeldOutErrorOfARefit checks the scores), the
+// candidates clearly worse than the least one dropped by the paired
+// standard error computed here, the least penalised of the rest.
+TEST(LambdaChoice, ThePenaltyGateOffersOnlyCandidatesNotClearlyWorseOnTheWedges) {
+  const PenaltyCase c;
+  const auto& [members, s, x, classes, obs, held, metrics, y] = c;
+  const auto& [fold, f, cv] = x;
+  const int K = 4;
+  auto wedge_errors = [&](size_t j, double lambda) {
+    std::vector<double> e(K, 0.0);
+    for (int k = 0; k < K; ++k) {
+      std::vector<int> train, test;
+      for (size_t p = 0; p < fold.size(); ++p) (fold[p] == k ? test : train).push_back(static_cast<int>(p));
+      const double weight = y.squaredNorm() / K / y(test, Eigen::all).squaredNorm();  // relative wedges
+      for (int ch = 0; ch < 3; ++ch) {
+        const Eigen::MatrixXd A = s.Y[ch].cast<double>()(train, members[j]);
+        const Eigen::VectorXd b = y.col(ch)(train);
+        const double cj = static_cast<double>(members[j].size());
+        const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
+        const Eigen::VectorXd wj = SolveRidge(A, b, lambda * b.squaredNorm() / cj, prior);
+        e[k] += weight * (s.Y[ch].cast<double>()(test, members[j]) * wj - y.col(ch)(test)).squaredNorm();
+      }
+    }
+    return e;
+  };
+  std::map<std::pair<int, double>, int> picks;  // (class, λ) → times picked
+  for (const double a : {1.0, 20.0})
+    for (const double z : {-1.0, 0.0, 1.0}) {
+      SCOPED_TRACE(testing::Message() << "a " << a << " z " << z);
+      LambdaChoiceOptions opt;
+      opt.max_condition = 1e9;
+      opt.sensitivity_penalty = a;
+      opt.penalty_gate = z;
+      opt.blend_every_basis = false;  // one group: the pick alone
+      const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), opt, &metrics);
+      size_t j0 = 0, l0 = 0;
+      for (size_t j = 0; j < members.size(); ++j)
+        for (size_t l = 0; l < opt.grid.size(); ++l)
+          if (ch.score[j][l] < ch.score[j0][l0]) j0 = j, l0 = l;
+      const std::vector<double> e0 = wedge_errors(j0, opt.grid[l0]);
+      double best = std::numeric_limits<double>::infinity();
+      int best_j = -1;
+      double best_l = -1;
+      for (size_t j = 0; j < members.size(); ++j)
+        for (size_t l = 0; l < opt.grid.size(); ++l) {
+          if (!std::isfinite(ch.score[j][l])) continue;
+          if (z >= 0) {
+            const std::vector<double> e = wedge_errors(j, opt.grid[l]);
+            double mean = 0, ss = 0;
+            for (int k = 0; k < K; ++k) mean += (e[k] - e0[k]) / K;
+            for (int k = 0; k < K; ++k) ss += std::pow(e[k] - e0[k] - mean, 2);
+            if (mean > z * std::sqrt(ss / (K - 1) / K)) continue;
+          }
+          const double factor = 1 + a * PriorSensitivity(classes[j], obs, opt.grid[l], metrics[j]);
+          if (ch.score[j][l] * factor * factor < best)
+            best = ch.score[j][l] * factor * factor, best_j = static_cast<int>(j), best_l = opt.grid[l];
+        }
+      EXPECT_EQ(ch.chosen_class, best_j);
+      EXPECT_EQ(ch.lambda, best_l);
+      if (z == 0) {  // nothing beats the least error on average: the penalty has no say
+        EXPECT_EQ(ch.chosen_class, static_cast<int>(j0));
+        EXPECT_EQ(ch.lambda, opt.grid[l0]);
+      }
+      ++picks[{ch.chosen_class, ch.lambda}];
+    }
+  EXPECT_GE(picks.size(), 2u) << "the gate never changed the pick: the case does not test it";
+}
+
 TEST(LambdaChoice, TheBlendWeighsTheBestClassAndEveryBasisByTheirPenalisedScores) {
   const PenaltyCase c;
-  const auto& [members, s, x, classes, obs, held, metrics] = c;
+  const auto& [members, s, x, classes, obs, held, metrics, y] = c;
   const auto& [fold, f, cv] = x;
   const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
   LambdaChoiceOptions opt;
@@ -573,6 +657,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.condition_bound = 1.44e6;
   r.bound_noise = 0.0004;
   r.sensitivity_penalty = 1;
+  r.penalty_gate = 1.5;
   r.min_wedge_share = 1.3e-5;
   r.parts = {{1, 0.03, 0.75, 0.041, std::nan(""), 0.037}, {2, 1e-4, 0.25, 0.05, std::nan(""), 0.033}};
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
@@ -583,6 +668,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   EXPECT_EQ(back.condition_bound, 1.44e6);
   EXPECT_EQ(back.bound_noise, 0.0004);
   EXPECT_EQ(back.sensitivity_penalty, 1);
+  EXPECT_EQ(back.penalty_gate, 1.5);
   EXPECT_EQ(back.min_wedge_share, 1.3e-5);
   // A fit made without the tables has no sensitivity: none is written, and a
   // file without one reads as not measured.

@@ -154,6 +154,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.bound_noise = f.bound_noise;
   r.condition_bound = f.choice.condition_bound;
   r.sensitivity_penalty = f.choice.sensitivity_penalty;
+  r.penalty_gate = f.choice.penalty_gate;
   r.min_wedge_share = f.choice.min_wedge_share;
   r.chosen_class = f.fit.chosen;
   r.parts = f.choice.parts;
@@ -230,6 +231,7 @@ nlohmann::json FitRecord::ToJson() const {
       {"relative_pixel_noise", relative_noise},
       {"bound_noise", bound_noise},
       {"sensitivity_penalty", sensitivity_penalty},
+      {"penalty_gate", penalty_gate},
       {"min_wedge_share", min_wedge_share},
       {"condition_bound", condition_bound},
       {"why", lambda_beyond_condition_bound
@@ -241,7 +243,11 @@ nlohmann::json FitRecord::ToJson() const {
                                                 "the mean wedge's)"
                                               : "") +
                         " times (1 + sensitivity_penalty x the candidate's prior sensitivity)^2, any candidate "
-                        "class, among the lambdas within the condition bound"
+                        "class, among the lambdas within the condition bound" +
+                        (penalty_gate >= 0 ? std::string(" and not more than penalty_gate standard errors of the "
+                                                         "per-wedge differences worse than their group's least "
+                                                         "held-out error")
+                                           : std::string())
               : lambda_rule == "cv"  ? "smallest held-out error over wedges of the sphere, any class, among the "
                                        "lambdas within the condition bound"
               : lambda_rule == "gcv" ? "smallest generalised cross-validation score, any class, among the lambdas "
@@ -292,6 +298,7 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     r.bound_noise = j.at("lambda_choice").value("bound_noise", -1.0);
     r.condition_bound = j.at("lambda_choice").value("condition_bound", -1.0);
     r.sensitivity_penalty = j.at("lambda_choice").value("sensitivity_penalty", 0.0);
+    r.penalty_gate = j.at("lambda_choice").value("penalty_gate", -1.0);
     r.min_wedge_share = j.at("lambda_choice").at("min_wedge_share");
     for (const auto& row : j.at("lambda_choice").at("score_per_class")) {
       std::vector<double> v;

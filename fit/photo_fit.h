@@ -94,6 +94,7 @@ struct FitRecord {
   double relative_noise = -1, condition_bound = -1;
   double bound_noise = -1;         // PhotoFit::bound_noise; -1: not recorded
   double sensitivity_penalty = 0;  // LambdaChoice::sensitivity_penalty (0: the wedges' error alone)
+  double penalty_gate = -1;        // LambdaChoice::penalty_gate (-1: none)
   double min_wedge_share = -1;     // LambdaChoice::min_wedge_share (-1: each wedge's error as it is)
   int chosen_class = -1;
   // The fit's parts (LambdaChoice::parts): class, λ, weight, predicted and
