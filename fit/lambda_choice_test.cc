@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <map>
 
 #include <Eigen/LU>
@@ -353,6 +354,23 @@ struct PenaltyCase {
     for (const auto& J : members) metrics.push_back(x.f[0].gram(J, J));
   }
 };
+
+// By brute force: the (class, λ) of least held-out score times (1 + a·s)²
+// among the candidates `ch` scored that `eligible` admits (all without one),
+// s each one's PriorSensitivity.
+std::pair<int, double> LeastPenalised(const PenaltyCase& c, const LambdaChoice& ch, double a,
+                                      const std::function<bool(size_t j, size_t l)>& eligible = nullptr) {
+  double best = std::numeric_limits<double>::infinity();
+  std::pair<int, double> pick{-1, -1.0};
+  for (size_t j = 0; j < c.members.size(); ++j)
+    for (size_t l = 0; l < ch.grid.size(); ++l) {
+      if (!std::isfinite(ch.score[j][l]) || (eligible && !eligible(j, l))) continue;
+      const double factor = 1 + a * PriorSensitivity(c.classes[j], c.obs, ch.grid[l], c.metrics[j]);
+      if (ch.score[j][l] * factor * factor < best)
+        best = ch.score[j][l] * factor * factor, pick = {static_cast<int>(j), ch.grid[l]};
+    }
+  return pick;
+}
 }  // namespace
 
 // The penalised pick against a brute force over every candidate: the least
@@ -372,16 +390,7 @@ TEST(LambdaChoice, SensitivityPenaltyPicksTheLeastPenalisedCandidate) {
     opt.sensitivity_penalty = a;
     opt.penalty_gate = -1;  // every candidate (the gate has its own test)
     const LambdaChoice ch = ChooseLambda(f, classes, &cv, obs, held, s.g.size(), opt, &metrics);
-    double best = std::numeric_limits<double>::infinity();
-    int best_j = -1;
-    double best_l = -1;
-    for (size_t j = 0; j < members.size(); ++j)
-      for (size_t l = 0; l < opt.grid.size(); ++l) {
-        if (!std::isfinite(ch.score[j][l])) continue;
-        const double factor = 1 + a * PriorSensitivity(classes[j], obs, opt.grid[l], metrics[j]);
-        const double penalised = ch.score[j][l] * factor * factor;
-        if (penalised < best) best = penalised, best_j = static_cast<int>(j), best_l = opt.grid[l];
-      }
+    const auto [best_j, best_l] = LeastPenalised(c, ch, a);
     EXPECT_EQ(ch.chosen_class, best_j);
     EXPECT_EQ(ch.lambda, best_l);
   }
@@ -448,23 +457,14 @@ TEST(LambdaChoice, ThePenaltyGateOffersOnlyCandidatesNotClearlyWorseOnTheWedges)
         for (size_t l = 0; l < opt.grid.size(); ++l)
           if (ch.score[j][l] < ch.score[j0][l0]) j0 = j, l0 = l;
       const std::vector<double> e0 = wedge_errors(j0, opt.grid[l0]);
-      double best = std::numeric_limits<double>::infinity();
-      int best_j = -1;
-      double best_l = -1;
-      for (size_t j = 0; j < members.size(); ++j)
-        for (size_t l = 0; l < opt.grid.size(); ++l) {
-          if (!std::isfinite(ch.score[j][l])) continue;
-          if (z >= 0) {
-            const std::vector<double> e = wedge_errors(j, opt.grid[l]);
-            double mean = 0, ss = 0;
-            for (int k = 0; k < K; ++k) mean += (e[k] - e0[k]) / K;
-            for (int k = 0; k < K; ++k) ss += std::pow(e[k] - e0[k] - mean, 2);
-            if (mean > z * std::sqrt(ss / (K - 1) / K)) continue;
-          }
-          const double factor = 1 + a * PriorSensitivity(classes[j], obs, opt.grid[l], metrics[j]);
-          if (ch.score[j][l] * factor * factor < best)
-            best = ch.score[j][l] * factor * factor, best_j = static_cast<int>(j), best_l = opt.grid[l];
-        }
+      const auto [best_j, best_l] = LeastPenalised(c, ch, a, [&](size_t j, size_t l) {
+        if (z < 0) return true;
+        const std::vector<double> e = wedge_errors(j, opt.grid[l]);
+        double mean = 0, ss = 0;
+        for (int k = 0; k < K; ++k) mean += (e[k] - e0[k]) / K;
+        for (int k = 0; k < K; ++k) ss += std::pow(e[k] - e0[k] - mean, 2);
+        return mean <= z * std::sqrt(ss / (K - 1) / K);
+      });
       EXPECT_EQ(ch.chosen_class, best_j);
       EXPECT_EQ(ch.lambda, best_l);
       if (z == 0) {  // nothing beats the least error on average: the penalty has no say
