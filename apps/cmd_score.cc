@@ -31,7 +31,7 @@ int ScoreMain(int argc, char** argv) {
   const FitRecord fit = FitRecord::Read(fit_path);
   const BasisImages basis = BasisImages::Read(basis_path);
   const Eigen::MatrixXd y = ReadFitPixels(basis, basis_path, photo_path, obs_path);
-  const PhotoScore s = ScoreFitOnPhoto(fit, fit_path, basis, basis_path, y);
+  const PhotoScore s = ScoreFitOnPhoto(fit, fit_path, basis, basis_path, y, obs_path.empty() ? photo_path : obs_path);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (tsv) {
     std::printf("%s\t%s\t%zu\t%.6g\t%.6g\t%.6g\t%.6g\n", fit_path.c_str(), basis_path.c_str(), s.pixels,

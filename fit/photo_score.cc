@@ -22,8 +22,8 @@ PredictionError ComparePrediction(const Eigen::MatrixXd& y, const Eigen::MatrixX
 }
 
 namespace {
-// The photo's prediction: Σ over channels of the basis images' columns of the
-// fit's bases, weighted.
+// The photo's prediction, per channel: the fit's weights times the basis
+// images of its bases, found by name.
 Eigen::MatrixXd PredictFromBases(const FitRecord& fit, const BasisImages& basis, const std::string& basis_source) {
   const std::vector<std::string> names = basis.BasisNames();
   std::unordered_map<std::string, Eigen::Index> column;
@@ -45,7 +45,7 @@ Eigen::MatrixXd PredictFromBases(const FitRecord& fit, const BasisImages& basis,
 }  // namespace
 
 PhotoScore ScoreFitOnPhoto(const FitRecord& fit, const std::string& fit_source, const BasisImages& basis,
-                           const std::string& basis_source, const Eigen::MatrixXd& y) {
+                           const std::string& basis_source, const Eigen::MatrixXd& y, const std::string& photo_source) {
   const std::string database = basis.header.value("database", "");
   if (database != fit.database)
     throw FileError(basis_source, "is rendered with database \"" + database + "\", " + fit_source +
@@ -55,6 +55,7 @@ PhotoScore ScoreFitOnPhoto(const FitRecord& fit, const std::string& fit_source, 
   if (y.rows() != basis.Y[0].rows() || y.cols() != 3)
     throw FileError(basis_source,
                     "has " + std::to_string(basis.Y[0].rows()) + " pixels, the photo " + std::to_string(y.rows()));
+  if (!(y.squaredNorm() > 0)) throw FileError(photo_source, "is black on every pixel: nothing to score against");
   PhotoScore s;
   s.pixels = static_cast<size_t>(y.rows());
   s.fit = ComparePrediction(y, PredictFromBases(fit, basis, basis_source));

@@ -33,14 +33,15 @@ struct PhotoScore {
   std::optional<PredictionError> lambert_ggx;  // the record's analytic baseline on the photo's lobes
 };
 
-// Scores `fit` (read from `fit_source`) against photo `y` (pixels × 3 in the
-// order of `basis`'s geometry), `basis` (read from `basis_source`) rendered
-// under the photo's lighting. The fit's bases are found in the basis images
-// by name; FileError naming `basis_source` where one is missing or the grid
-// differs, or where y's rows are not the basis images' pixels. The Lambert +
+// Scores `fit` (read from `fit_source`) against photo `y` (read from
+// `photo_source`; pixels × 3 in the order of `basis`'s geometry), `basis`
+// (read from `basis_source`) rendered under the photo's lighting. The fit's
+// bases are found in the basis images by name; FileError naming
+// `basis_source` where one is missing or the grid differs, or where y's rows
+// are not the basis images' pixels, and naming `photo_source` where y is black. The Lambert +
 // GGX baseline is scored where the record holds one and the basis images
 // hold the same lobes.
 PhotoScore ScoreFitOnPhoto(const FitRecord& fit, const std::string& fit_source, const BasisImages& basis,
-                           const std::string& basis_source, const Eigen::MatrixXd& y);
+                           const std::string& basis_source, const Eigen::MatrixXd& y, const std::string& photo_source);
 
 }  // namespace brdfshot

@@ -72,14 +72,14 @@ TEST(ScoreFitOnPhoto, TheFitsBasesAreFoundByNameAndAWrongWeightShowsAsItsOwnImag
   fit.weights.resize(4, 3);
   const int order[4] = {3, 0, 2, 1};
   for (int i = 0; i < 4; ++i) fit.weights.row(i) = w_true.row(order[i]);
-  PhotoScore s = ScoreFitOnPhoto(fit, "fit.json", basis, "held.bsbi", y);
+  PhotoScore s = ScoreFitOnPhoto(fit, "fit.json", basis, "held.bsbi", y, "held.exr");
   EXPECT_EQ(s.pixels, basis.geometry.size());
   EXPECT_LT(s.fit.relative_rmse, 1e-6);
   EXPECT_FALSE(s.lambert_ggx.has_value());  // the record holds no baseline
 
   // c's green weight 0.1 too high: the prediction is off by 0.1 × c's green image.
   fit.weights(2, 1) += 0.1;
-  s = ScoreFitOnPhoto(fit, "fit.json", basis, "held.bsbi", y);
+  s = ScoreFitOnPhoto(fit, "fit.json", basis, "held.bsbi", y, "held.exr");
   EXPECT_NEAR(s.fit.relative_rmse, 0.1 * basis.Y[1].col(2).cast<double>().norm() / y.norm(), 1e-6);
 }
 
@@ -98,13 +98,13 @@ TEST(ScoreFitOnPhoto, TheAnalyticBaselineIsScoredOnTheSameLobesOnly) {
   Eigen::MatrixXd y(basis.Y[0].rows(), 3);
   for (int c = 0; c < 3; ++c)
     y.col(c) = 0.5 * basis.lobes[c].col(0).cast<double>() + 0.1 * basis.lobes[c].col(7).cast<double>();
-  const PhotoScore s = ScoreFitOnPhoto(fit, "fit.json", basis, "held.bsbi", y);
+  const PhotoScore s = ScoreFitOnPhoto(fit, "fit.json", basis, "held.bsbi", y, "held.exr");
   ASSERT_TRUE(s.lambert_ggx.has_value());
   EXPECT_LT(s.lambert_ggx->relative_rmse, 1e-6);
   EXPECT_GT(s.fit.relative_rmse, 0.01);  // the weights are not those of this photo
 
   fit.lobes.alphas.pop_back();  // lobes other than the basis images': not comparable
-  EXPECT_FALSE(ScoreFitOnPhoto(fit, "fit.json", basis, "held.bsbi", y).lambert_ggx.has_value());
+  EXPECT_FALSE(ScoreFitOnPhoto(fit, "fit.json", basis, "held.bsbi", y, "held.exr").lambert_ggx.has_value());
 }
 
 TEST(ScoreFitOnPhoto, ErrorsNameTheBasisFileAndTheMismatch) {
@@ -117,7 +117,7 @@ TEST(ScoreFitOnPhoto, ErrorsNameTheBasisFileAndTheMismatch) {
   fit.weights = Eigen::MatrixXd::Ones(2, 3);
   auto message = [&](const FitRecord& f, const Eigen::MatrixXd& photo) {
     try {
-      ScoreFitOnPhoto(f, "fit.json", basis, "held.bsbi", photo);
+      ScoreFitOnPhoto(f, "fit.json", basis, "held.bsbi", photo, "held.exr");
     } catch (const Error& e) {
       return std::string(e.what());
     }
@@ -128,6 +128,7 @@ TEST(ScoreFitOnPhoto, ErrorsNameTheBasisFileAndTheMismatch) {
   fit.bases = {"a", "b"};
   EXPECT_EQ(message(fit, y), "no error");
   EXPECT_NE(message(fit, Eigen::MatrixXd::Ones(3, 3)).find("held.bsbi: has"), std::string::npos);
+  EXPECT_NE(message(fit, Eigen::MatrixXd::Zero(y.rows(), 3)).find("held.exr: is black"), std::string::npos);
   FitRecord other = fit;
   other.database = "another db";
   EXPECT_NE(message(other, y).find("fitted with \"another db\""), std::string::npos) << message(other, y);
