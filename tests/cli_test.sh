@@ -91,6 +91,10 @@ check score-no-photo 1 "give one of --obs and --photo" -- "$B" score --fit "$T/f
 check score-photo-size 1 "basis images are for" -- "$B" score --fit "$T/fit/fit.json" --basis "$T/b2.bsbi" --photo "$PROBE"
 check fit-fixed 0 "(fixed)" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda 0.5 --preview-probes "$PROBE" -o "$T/fitl"
 grep -q '"lambda": 0.5' "$T/fitl/fit.json" && pass=$((pass+1)) || { echo "FAIL --lambda 0.5 not recorded"; fail=$((fail+1)); }
+# Several fits against one photo: one line each, the same as each alone.
+two=$("$B" score --fit "$T/fit/fit.json,$T/fitl/fit.json" --basis "$T/b2.bsbi" --photo "$T/photo2.exr" --tsv)
+lam=$("$B" score --fit "$T/fitl/fit.json" --basis "$T/b2.bsbi" --photo "$T/photo2.exr" --tsv)
+[ "$two" = "$line"$'\n'"$lam" ] && pass=$((pass+1)) || { echo "FAIL score of two fits: $two"; fail=$((fail+1)); }
 check fit-bad-rule 1 "unknown --lambda-rule 'best'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-rule best -o "$T/fitb1"
 check fit-bad-grid 1 "bad --lambda-grid '0.1,x'" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --lambda-grid 0.1,x -o "$T/fitb2"
 check fit-bad-folds 1 "--folds must be at least 2" -- "$B" fit $DB --basis "$T/b.bsbi" --photo "$T/photo.exr" --classes "$T/c.json" --folds 1 -o "$T/fitb3"
