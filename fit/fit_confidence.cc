@@ -15,19 +15,20 @@ double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double
                  "a prior sensitivity needs a class with its eigenvectors and λ ≥ 0");
   BRDFSHOT_CHECK(metric.rows() == static_cast<Eigen::Index>(J.size()) && metric.cols() == metric.rows(),
                  "the BRDF metric is not over the class's bases");
-  const Eigen::MatrixXd& M = metric;
   const Eigen::Index k = static_cast<Eigen::Index>(J.size());
   const double cj = static_cast<double>(k);
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / cj);
-  double norm2 = 0, down2 = 0, up2 = 0;
+  // Per channel the fit w and its moves to λ/10 and 10λ, side by side, so
+  // that the metric, common to the channels, is applied in one matrix product
+  // rather than nine: the penalty of the λ choice asks for several
+  // sensitivities per photo, and these products are their cost.
+  Eigen::MatrixXd moves(k, 9);
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd& e = cls.e[c];
-    const Eigen::MatrixXd& V = cls.V[c];
     // w(λ) = μ' + V diag(1/(e + λ_j)) b with b = Vᵀ(z_J − G_JJ μ'), as
-    // SolveFromSpectrum, with b projected once for the three λ (the penalty
-    // of the λ choice asks for several sensitivities per photo);
-    // directions with e + λ_j below 1e-13 e_max keep the prior.
-    const Eigen::VectorXd b = V.transpose() * (obs.z[c](J) - cls.gram[c] * prior);
+    // SolveFromSpectrum, with b projected once for the three λ; directions
+    // with e + λ_j below 1e-13 e_max keep the prior.
+    const Eigen::VectorXd b = cls.V[c].transpose() * (obs.z[c](J) - cls.gram_prior[c]);
     const double floor = 1e-13 * std::max(e[k - 1], 1e-300);
     const double scale = obs.norm2[c] / cj;  // λ_j = λ ‖y_c‖² / c_j, as SolveClass
     const auto coefficients = [&](double l) {
@@ -38,13 +39,19 @@ double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double
       }
       return a;
     };
-    const Eigen::VectorXd a = coefficients(lambda);
-    const Eigen::VectorXd w = prior + V * a;
-    const Eigen::VectorXd down = V * (coefficients(lambda / 10) - a);
-    const Eigen::VectorXd up = V * (coefficients(std::max(10 * lambda, 1e-4)) - a);
-    norm2 += w.dot(M * w);
-    down2 += down.dot(M * down);
-    up2 += up.dot(M * up);
+    Eigen::MatrixXd a(k, 3);
+    a.col(0) = coefficients(lambda);
+    a.col(1) = coefficients(lambda / 10) - a.col(0);
+    a.col(2) = coefficients(std::max(10 * lambda, 1e-4)) - a.col(0);
+    moves.middleCols(3 * c, 3).noalias() = cls.V[c] * a;
+    moves.col(3 * c) += prior;
+  }
+  const Eigen::MatrixXd metric_moves = metric * moves;
+  double norm2 = 0, down2 = 0, up2 = 0;
+  for (int c = 0; c < 3; ++c) {
+    norm2 += moves.col(3 * c).dot(metric_moves.col(3 * c));
+    down2 += moves.col(3 * c + 1).dot(metric_moves.col(3 * c + 1));
+    up2 += moves.col(3 * c + 2).dot(metric_moves.col(3 * c + 2));
   }
   if (!(norm2 > 0)) return 0;
   return std::sqrt(std::max(0.0, down2) / norm2 + std::max(0.0, up2) / norm2);

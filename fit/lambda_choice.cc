@@ -41,17 +41,53 @@ std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR
   return out;
 }
 
+namespace {
+// Y_cᵀ y over rows [begin, end), summed per fold: z[k] holds fold k's rows.
+// The inner loop is ProjectRows's (double sums of widened float rows).
+std::vector<Eigen::VectorXd> ProjectRowsByFold(const MatrixXfR& Y, const Eigen::VectorXd& y,
+                                               const std::vector<int>& fold_of_pixel, int folds, Eigen::Index begin,
+                                               Eigen::Index end) {
+  const Eigen::Index n = Y.cols();
+  std::vector<Eigen::VectorXd> z(folds, Eigen::VectorXd::Zero(n));
+  for (Eigen::Index r = begin; r < end; ++r) {
+    double* zd = z[fold_of_pixel[r]].data();
+    const float* src = Y.data() + r * n;  // Y is row-major: one contiguous row
+    const double w = y[r];
+    for (Eigen::Index j = 0; j < n; ++j) zd[j] += w * static_cast<double>(src[j]);
+  }
+  return z;
+}
+}  // namespace
+
 std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
                                           const std::vector<int>& fold_of_pixel, int folds) {
-  const std::vector<std::vector<int>> rows = RowsByFold(fold_of_pixel, folds);
-  std::vector<Observation> out(folds);
+  const Eigen::Index pixels = y.rows();
+  BRDFSHOT_CHECK(static_cast<Eigen::Index>(fold_of_pixel.size()) == pixels && y.cols() == 3);
+  for (int k : fold_of_pixel) BRDFSHOT_CHECK(k >= 0 && k < folds, "a pixel's fold " << k << " is not one of " << folds);
+  for (int c = 0; c < 3; ++c) BRDFSHOT_CHECK(Y[c].rows() == pixels);
+  // The basis images are read once, in order, each row added to its own
+  // fold's sum: a wedge's rows lie scattered over the image, and reading
+  // them wedge by wedge runs well below the memory's speed. Each channel's
+  // rows are cut in halves, six tasks for the threads, whose sums are added
+  // in order: the same result on any thread count.
+  constexpr int kHalves = 2;
+  std::array<std::array<std::vector<Eigen::VectorXd>, kHalves>, 3> part;  // [channel][half][fold]
 #pragma omp parallel for schedule(dynamic, 1) collapse(2)
-  for (int k = 0; k < folds; ++k)
-    for (int c = 0; c < 3; ++c) {
+  for (int c = 0; c < 3; ++c)
+    for (int h = 0; h < kHalves; ++h) {
       const Eigen::VectorXd yc = y.col(c);
-      out[k].z[c] = rows[k].empty() ? Eigen::VectorXd::Zero(Y[c].cols()) : ProjectRows(Y[c], yc, rows[k]);
-      out[k].norm2[c] = yc(rows[k]).squaredNorm();
+      part[c][h] = ProjectRowsByFold(Y[c], yc, fold_of_pixel, folds, pixels * h / kHalves, pixels * (h + 1) / kHalves);
     }
+  std::vector<Observation> out(folds);
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> norm2(folds, 0.0);
+    for (Eigen::Index p = 0; p < pixels; ++p) norm2[fold_of_pixel[p]] += y(p, c) * y(p, c);
+    for (int k = 0; k < folds; ++k) {
+      out[k].z[c] = part[c][0][k];
+      for (int h = 1; h < kHalves; ++h) out[k].z[c] += part[c][h][k];
+      out[k].norm2[c] = norm2[k];
+    }
+  }
   return out;
 }
 
@@ -93,6 +129,7 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
         cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
         t.gram[c] = f[c].gram(members[j], members[j]) - cv.held_class[k][j][c];
         if (members[j].empty()) continue;
+        t.gram_prior[c] = t.gram[c].rowwise().sum() / static_cast<double>(members[j].size());
         Eigen::Tridiagonalization<Eigen::MatrixXd> tri(t.gram[c]);
         t.diagonal[c] = tri.diagonal();
         t.off_diagonal[c] = members[j].size() > 1 ? Eigen::VectorXd(tri.subDiagonal()) : Eigen::VectorXd();
@@ -148,7 +185,7 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd z_train = (all.z[c] - held.z[c])(J);
     const double n2_train = all.norm2[c] - held.norm2[c];
-    const Eigen::VectorXd b = cls.TimesQt(c, z_train - cls.gram[c] * prior);
+    const Eigen::VectorXd b = cls.TimesQt(c, z_train - cls.gram_prior[c]);
     const Eigen::VectorXd& d = cls.diagonal[c];
     const Eigen::VectorXd& e = cls.off_diagonal[c];
     // (T + λ_j I) x = b by the LDLᵀ recurrence of a tridiagonal matrix. Where
@@ -195,8 +232,8 @@ std::vector<std::array<ChannelResidual, 3>> ResidualCurve(const ClassSpectrum& c
   std::vector<std::array<ChannelResidual, 3>> out(grid.size());
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd zJ = obs.z[c](J);
-    const Eigen::VectorXd r = zJ - cls.gram[c] * prior;
-    const double r0 = prior.dot(cls.gram[c] * prior) - 2 * prior.dot(zJ) + obs.norm2[c];
+    const Eigen::VectorXd r = zJ - cls.gram_prior[c];
+    const double r0 = prior.dot(cls.gram_prior[c]) - 2 * prior.dot(zJ) + obs.norm2[c];
     const Eigen::VectorXd b = cls.V[c].transpose() * r;
     const Eigen::VectorXd& e = cls.e[c];
     // Directions with no eigenvalue left (a singular system at λ = 0) are
@@ -337,9 +374,16 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     const int K = static_cast<int>(held.size()), J = static_cast<int>(classes.size());
     per_fold.assign(static_cast<size_t>(J) * K, std::vector<double>(opt.grid.size(), 0.0));
     const std::vector<double> weight = WedgeWeights(obs, held, opt);
+    // Largest classes first: a task's cost grows with the square of its
+    // members, and the every-basis candidate's tasks, coming last, would
+    // leave a thread idle while another finishes them.
+    std::vector<int> tasks(static_cast<size_t>(J) * K);
+    for (int q = 0; q < J * K; ++q) tasks[q] = q;
+    std::stable_sort(tasks.begin(), tasks.end(),
+                     [&](int a, int b) { return classes[a / K].members.size() > classes[b / K].members.size(); });
 #pragma omp parallel for schedule(dynamic, 1)
-    for (int q = 0; q < J * K; ++q) {
-      const int j = q / K, k = q % K;
+    for (int t = 0; t < J * K; ++t) {
+      const int q = tasks[t], j = q / K, k = q % K;
       if (!classes[j].members.empty())
         AddFoldScores(cv->train[k][j], cv->held_class[k][j], obs, held[k], opt.grid, weight[k], &per_fold[q],
                       scored[j]);

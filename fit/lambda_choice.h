@@ -72,8 +72,9 @@ Observation SumObservations(const std::vector<Observation>& parts);
 // Householder reflectors (FoldQ).
 struct FoldClassFactor {
   std::vector<int> members;
-  std::array<Eigen::MatrixXd, 3> gram;  // G_JJ − G_fold,JJ
-  std::array<Eigen::MatrixXd, 3> Q;     // formed (FoldQ::kFormed), else empty
+  std::array<Eigen::MatrixXd, 3> gram;        // G_JJ − G_fold,JJ
+  std::array<Eigen::VectorXd, 3> gram_prior;  // gram μ' (ClassSpectrum::gram_prior)
+  std::array<Eigen::MatrixXd, 3> Q;           // formed (FoldQ::kFormed), else empty
   // The reflectors (FoldQ::kReflectors), else empty.
   std::array<Eigen::Tridiagonalization<Eigen::MatrixXd>, 3> reflectors;
   std::array<Eigen::VectorXd, 3> diagonal, off_diagonal;  // of T

@@ -86,6 +86,32 @@ TEST(LambdaChoice, WedgesCoverTheSphereEvenlyAndTheirGramsAddUp) {
   }
 }
 
+TEST(LambdaChoice, FoldObservationsAreEachWedgesOwnProjection) {
+  // Each wedge's z_c = Y_c(rows)ᵀ y_c(rows) and ‖y_c(rows)‖², against the
+  // dense double product over the wedge's rows picked out one by one.
+  const Scene s = MakeScene(7, 3);
+  const int K = 5;
+  const std::vector<int> fold = WedgeFolds(s.g, K);
+  const Eigen::MatrixXd y = NoisyRender(s, Eigen::MatrixXd::Constant(7, 3, 0.2), 0.01, 4);
+  const std::vector<Observation> held = FoldObservations(s.Y, y, fold, K);
+  ASSERT_EQ(held.size(), static_cast<size_t>(K));
+  for (int k = 0; k < K; ++k)
+    for (int c = 0; c < 3; ++c) {
+      Eigen::VectorXd z = Eigen::VectorXd::Zero(7);
+      double norm2 = 0;
+      for (size_t p = 0; p < fold.size(); ++p) {
+        if (fold[p] != k) continue;
+        const Eigen::Index r = static_cast<Eigen::Index>(p);
+        z += y(r, c) * s.Y[c].row(r).transpose().cast<double>();
+        norm2 += y(r, c) * y(r, c);
+      }
+      EXPECT_LT((held[k].z[c] - z).norm(), 1e-12 * z.norm()) << "wedge " << k << " channel " << c;
+      EXPECT_NEAR(held[k].norm2[c], norm2, 1e-12 * norm2);
+    }
+  std::vector<int> bad = fold;
+  bad[0] = K;  // a wedge that does not exist
+  EXPECT_THROW(FoldObservations(s.Y, y, bad, K), std::logic_error);
+}
 TEST(LambdaChoice, CrossValidationScoreIsTheHeldOutErrorOfARefit) {
   // The score from the fold spectra must equal refitting on the other wedges'
   // pixels directly (dense, QR on the training rows) and measuring the wedge,

@@ -107,6 +107,7 @@ std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
     if (members[j].empty()) continue;
     for (int c = 0; c < 3; ++c) {
       out[j].gram[c] = f[c].gram(members[j], members[j]);
+      out[j].gram_prior[c] = out[j].gram[c].rowwise().sum() / static_cast<double>(members[j].size());
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(out[j].gram[c],
                                                          vectors ? Eigen::ComputeEigenvectors : Eigen::EigenvaluesOnly);
       out[j].e[c] = eig.eigenvalues().cwiseMax(0.0);  // rounding can leave a singular G slightly negative
@@ -147,7 +148,7 @@ Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::
   const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / static_cast<double>(k));
   // Directions with no data and no weight (e + λ_j ≈ 0) keep the prior: the
   // minimum-norm correction.
-  const Eigen::VectorXd b = cls.V[c].transpose() * (zJ - cls.gram[c] * prior);
+  const Eigen::VectorXd b = cls.V[c].transpose() * (zJ - cls.gram_prior[c]);
   const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
   Eigen::VectorXd d(k);
   for (Eigen::Index i = 0; i < k; ++i) d[i] = e[i] + lambda_j > floor ? b[i] / (e[i] + lambda_j) : 0.0;

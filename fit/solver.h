@@ -77,6 +77,10 @@ struct ClassSpectrum {
   std::array<Eigen::VectorXd, 3> e;
   std::array<Eigen::MatrixXd, 3> V;     // empty when factored with SpectrumParts::kEigenvalues
   std::array<Eigen::MatrixXd, 3> gram;  // G_JJ
+  // G_JJ μ', μ' the class prior (1/|J| for each member): every solve,
+  // residual and sensitivity starts from z_J − G_JJ μ', so it is formed once
+  // per class, not once per photo and λ.
+  std::array<Eigen::VectorXd, 3> gram_prior;
   bool has_vectors() const { return members.empty() || V[0].size() > 0; }
 };
 // What FactorClasses computes. The eigenvalues give the condition numbers and
