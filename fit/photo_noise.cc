@@ -23,36 +23,47 @@ double PooledNoiseSigma(const PixelGeometry& g, const Eigen::MatrixXd& y) {
   for (size_t i = 0; i < g.size(); ++i)
     at[static_cast<size_t>(g.y[i] - *y0) * w + (g.x[i] - *x0)] = static_cast<int>(i);
   // The kernel's response at every pixel whose 8 neighbours are all there,
-  // per channel, in one pass over the bounding box.
+  // per channel, in one pass over the bounding box, its rows spread over the
+  // threads. The responses' order does not matter: only their median is
+  // read.
   std::array<std::vector<double>, 3> response;
   for (auto& r : response) r.reserve(g.size());
   const Eigen::MatrixXd yt = y.transpose();  // a pixel's RGB contiguous
   const double* v = yt.data();
-  for (int py = 1; py + 1 < h; ++py) {
-    const int* above = &at[static_cast<size_t>(py - 1) * w];
-    const int* here = above + w;
-    const int* below = here + w;
-    for (int px = 1; px + 1 < w; ++px) {
-      const int n[9] = {above[px - 1], above[px],     above[px + 1], here[px - 1], here[px],
-                        here[px + 1],  below[px - 1], below[px],     below[px + 1]};
-      if (std::min({n[0], n[1], n[2], n[3], n[4], n[5], n[6], n[7], n[8]}) < 0) continue;
-      for (int c = 0; c < 3; ++c) {
-        const auto p = [&](int k) { return v[3 * static_cast<size_t>(n[k]) + c]; };
-        // [1 −2 1] ⊗ [1 −2 1]
-        const double s = (p(0) + p(2) + p(6) + p(8)) - 2 * (p(1) + p(3) + p(5) + p(7)) + 4 * p(4);
-        response[c].push_back(std::abs(s));
+#pragma omp parallel
+  {
+    std::array<std::vector<double>, 3> local;
+#pragma omp for schedule(static) nowait
+    for (int py = 1; py < h - 1; ++py) {
+      const int* above = &at[static_cast<size_t>(py - 1) * w];
+      const int* here = above + w;
+      const int* below = here + w;
+      for (int px = 1; px + 1 < w; ++px) {
+        const int n[9] = {above[px - 1], above[px],     above[px + 1], here[px - 1], here[px],
+                          here[px + 1],  below[px - 1], below[px],     below[px + 1]};
+        if (std::min({n[0], n[1], n[2], n[3], n[4], n[5], n[6], n[7], n[8]}) < 0) continue;
+        for (int c = 0; c < 3; ++c) {
+          const auto p = [&](int k) { return v[3 * static_cast<size_t>(n[k]) + c]; };
+          // [1 −2 1] ⊗ [1 −2 1]
+          const double s = (p(0) + p(2) + p(6) + p(8)) - 2 * (p(1) + p(3) + p(5) + p(7)) + 4 * p(4);
+          local[c].push_back(std::abs(s));
+        }
       }
     }
+#pragma omp critical
+    for (int c = 0; c < 3; ++c) response[c].insert(response[c].end(), local[c].begin(), local[c].end());
   }
   if (response[0].empty()) return kUnknownNoise;
-  double variance = 0;  // summed over channels
-  for (auto& r : response) {
+  std::array<double, 3> sigma{};
+#pragma omp parallel for schedule(static, 1)
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double>& r = response[c];
     const auto mid = r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2);
     std::nth_element(r.begin(), mid, r.end());
     // median |N(0, 36σ²)| = 0.6745 · 6σ
-    const double sigma = *mid / (6.0 * 0.674489750196);
-    variance += sigma * sigma;
+    sigma[c] = *mid / (6.0 * 0.674489750196);
   }
+  const double variance = sigma[0] * sigma[0] + sigma[1] * sigma[1] + sigma[2] * sigma[2];  // summed over channels
   return std::sqrt(variance / 3.0);
 }
 
