@@ -43,10 +43,14 @@ void BinRows::Append(const MatrixXfR& tables, const std::vector<int>& members, c
   for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables.cols(), "BinRows: member out of range");
   const Eigen::Index old = a_.rows(), k = static_cast<Eigen::Index>(members.size());
   a_.conservativeResize(old + static_cast<Eigen::Index>(table_rows.size()), k);
-  for (size_t i = 0; i < table_rows.size(); ++i) {
-    BRDFSHOT_CHECK(table_rows[i] >= 0 && table_rows[i] < tables.rows(), "BinRows: row out of range");
-    const float* row = tables.row(table_rows[i]).data();
-    float* out = a_.row(old + static_cast<Eigen::Index>(i)).data();
+  for (int r : table_rows) BRDFSHOT_CHECK(r >= 0 && r < tables.rows(), "BinRows: row out of range");
+  // The rows over the threads: the sampled rows lie far apart in the tables,
+  // and each thread's gathers wait on memory.
+  const Eigen::Index count = static_cast<Eigen::Index>(table_rows.size());
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const float* row = tables.row(table_rows[static_cast<size_t>(i)]).data();
+    float* out = a_.row(old + i).data();
     for (Eigen::Index j = 0; j < k; ++j) out[j] = row[members[j]];
   }
   AddRowNorms(old);
@@ -70,12 +74,19 @@ Eigen::MatrixXd BinRows::TimesRows(const Eigen::MatrixXd& w, const std::vector<i
   } else {
     wt = w.transpose();
   }
-  Eigen::MatrixXd out(static_cast<Eigen::Index>(which.size()), w.cols());
-  Eigen::RowVectorXd row(a.cols());
-  for (size_t r = 0; r < which.size(); ++r) {
-    BRDFSHOT_CHECK(which[r] >= 0 && which[r] < rows(), "BinRows: row out of range");
-    row = a.row(which[r]).cast<double>();
-    for (Eigen::Index j = 0; j < w.cols(); ++j) out(static_cast<Eigen::Index>(r), j) = row.dot(wt.row(j));
+  for (int r : which) BRDFSHOT_CHECK(r >= 0 && r < rows(), "BinRows: row out of range");
+  const Eigen::Index count = static_cast<Eigen::Index>(which.size());
+  Eigen::MatrixXd out(count, w.cols());
+  // The rows over the threads: one thread's reads of the float rows wait on
+  // memory, most of the time a solve keeps its bins non-negative.
+#pragma omp parallel
+  {
+    Eigen::RowVectorXd row(a.cols());
+#pragma omp for schedule(static)
+    for (Eigen::Index r = 0; r < count; ++r) {
+      row = a.row(which[static_cast<size_t>(r)]).cast<double>();
+      for (Eigen::Index j = 0; j < w.cols(); ++j) out(r, j) = row.dot(wt.row(j));
+    }
   }
   return out;
 }
