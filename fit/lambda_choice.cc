@@ -41,12 +41,16 @@ std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR
   return out;
 }
 
-namespace {
-// Y_cᵀ y over rows [begin, end), summed per fold: z[k] holds fold k's rows.
-// The inner loop is ProjectRows's (double sums of widened float rows).
 std::vector<Eigen::VectorXd> ProjectRowsByFold(const MatrixXfR& Y, const Eigen::VectorXd& y,
                                                const std::vector<int>& fold_of_pixel, int folds, Eigen::Index begin,
                                                Eigen::Index end) {
+  if (end < 0) end = Y.rows();
+  BRDFSHOT_CHECK(0 <= begin && begin <= end && end <= Y.rows() && y.size() == Y.rows() &&
+                     static_cast<Eigen::Index>(fold_of_pixel.size()) == Y.rows(),
+                 "ProjectRowsByFold: rows, photo and folds differ in size");
+  for (Eigen::Index r = begin; r < end; ++r)
+    BRDFSHOT_CHECK(fold_of_pixel[r] >= 0 && fold_of_pixel[r] < folds,
+                   "a pixel's fold " << fold_of_pixel[r] << " is not one of " << folds);
   const Eigen::Index n = Y.cols();
   std::vector<Eigen::VectorXd> z(folds, Eigen::VectorXd::Zero(n));
   for (Eigen::Index r = begin; r < end; ++r) {
@@ -57,19 +61,17 @@ std::vector<Eigen::VectorXd> ProjectRowsByFold(const MatrixXfR& Y, const Eigen::
   }
   return z;
 }
-}  // namespace
 
 std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,
                                           const std::vector<int>& fold_of_pixel, int folds) {
   const Eigen::Index pixels = y.rows();
   BRDFSHOT_CHECK(static_cast<Eigen::Index>(fold_of_pixel.size()) == pixels && y.cols() == 3);
+  // Checked here as well as in ProjectRowsByFold: a check that fails inside
+  // the parallel loop below ends the program instead of throwing.
   for (int k : fold_of_pixel) BRDFSHOT_CHECK(k >= 0 && k < folds, "a pixel's fold " << k << " is not one of " << folds);
   for (int c = 0; c < 3; ++c) BRDFSHOT_CHECK(Y[c].rows() == pixels);
-  // The basis images are read once, in order, each row added to its own
-  // fold's sum: a wedge's rows lie scattered over the image, and reading
-  // them wedge by wedge runs well below the memory's speed. Each channel's
-  // rows are cut in halves, six tasks for the threads, whose sums are added
-  // in order: the same result on any thread count.
+  // Each channel's rows are cut in halves, six tasks for the threads, whose
+  // sums are added in order: the same result on any thread count.
   constexpr int kHalves = 2;
   std::array<std::array<std::vector<Eigen::VectorXd>, kHalves>, 3> part;  // [channel][half][fold]
 #pragma omp parallel for schedule(dynamic, 1) collapse(2)

@@ -55,6 +55,16 @@ std::vector<std::vector<int>> RowsByFold(const std::vector<int>& fold_of_pixel, 
 std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR, 3>& Y,
                                                       const std::vector<int>& fold_of_pixel, int folds);
 
+// Yᵀ y over each fold's rows among rows [begin, end) (end < 0: every row):
+// z[k] sums fold k's rows, in double, each float row widened as it is read.
+// The rows are read once, in order, each added to its own fold's sum: a
+// wedge's rows lie scattered over the image, and reading them wedge by wedge
+// runs well below the memory's speed. Within a fold the rows are added in
+// ascending order, as ProjectRows over that fold's rows adds them.
+std::vector<Eigen::VectorXd> ProjectRowsByFold(const MatrixXfR& Y, const Eigen::VectorXd& y,
+                                               const std::vector<int>& fold_of_pixel, int folds,
+                                               Eigen::Index begin = 0, Eigen::Index end = -1);
+
 // The observation restricted to each fold's pixels (their sum is the whole
 // observation: SumObservations).
 std::vector<Observation> FoldObservations(const std::array<MatrixXfR, 3>& Y, const Eigen::MatrixXd& y,

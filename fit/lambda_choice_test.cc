@@ -112,6 +112,34 @@ TEST(LambdaChoice, FoldObservationsAreEachWedgesOwnProjection) {
   bad[0] = K;  // a wedge that does not exist
   EXPECT_THROW(FoldObservations(s.Y, y, bad, K), std::logic_error);
 }
+TEST(LambdaChoice, ProjectRowsByFoldIsProjectRowsOverEachFoldsRows) {
+  // The same sums in the same order: equal to the bit, over the whole image
+  // and over a range of its rows.
+  const Scene s = MakeScene(7, 3);
+  const int K = 5;
+  const std::vector<int> fold = WedgeFolds(s.g, K);
+  const Eigen::VectorXd y = NoisyRender(s, Eigen::MatrixXd::Constant(7, 3, 0.2), 0.01, 4).col(1);
+  const Eigen::Index rows = s.Y[1].rows(), begin = rows / 3, end = 2 * rows / 3;
+  const std::vector<Eigen::VectorXd> all = ProjectRowsByFold(s.Y[1], y, fold, K);
+  const std::vector<Eigen::VectorXd> part = ProjectRowsByFold(s.Y[1], y, fold, K, begin, end);
+  const std::vector<std::vector<int>> by_fold = RowsByFold(fold, K);
+  ASSERT_EQ(all.size(), static_cast<size_t>(K));
+  for (int k = 0; k < K; ++k) {
+    ASSERT_FALSE(by_fold[k].empty());
+    EXPECT_EQ(all[k], ProjectRows(s.Y[1], y, by_fold[k])) << "wedge " << k;
+    std::vector<int> in_range;
+    for (int r : by_fold[k])
+      if (r >= begin && r < end) in_range.push_back(r);
+    const Eigen::VectorXd expected =
+        in_range.empty() ? Eigen::VectorXd::Zero(7) : ProjectRows(s.Y[1], y, in_range);
+    EXPECT_EQ(part[k], expected) << "wedge " << k << " over rows " << begin << "–" << end;
+  }
+  std::vector<int> bad = fold;
+  bad[0] = -1;
+  EXPECT_THROW(ProjectRowsByFold(s.Y[1], y, bad, K), std::logic_error);
+  EXPECT_THROW(ProjectRowsByFold(s.Y[1], y, fold, K, end, begin), std::logic_error);
+}
+
 TEST(LambdaChoice, CrossValidationScoreIsTheHeldOutErrorOfARefit) {
   // The score from the fold spectra must equal refitting on the other wedges'
   // pixels directly (dense, QR on the training rows) and measuring the wedge,

@@ -28,9 +28,10 @@ TargetScene MakeTargetScene(const std::array<ChannelFactor, 3>& f, const std::ar
     for (Eigen::Index t = 0; t < T; ++t) {
       const Eigen::VectorXd y = Yt[c].col(3 * t + c).cast<double>();
       s.self[c][t] = y.squaredNorm();
+      const std::vector<Eigen::VectorXd> z = ProjectRowsByFold(Y[c], y, fold_of_pixel, folds);
       Eigen::VectorXd parts = Eigen::VectorXd::Zero(n);
       for (int k = 0; k < folds; ++k) {
-        const Eigen::VectorXd zk = rows[k].empty() ? Eigen::VectorXd::Zero(n) : ProjectRows(Y[c], y, rows[k]);
+        const Eigen::VectorXd& zk = z[static_cast<size_t>(k)];
         s.fold_cross[k][c].col(t) = zk;
         s.fold_self[k][c][t] = y(rows[k]).squaredNorm();
         parts += zk;
