@@ -196,20 +196,26 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
     // only part of the data there, and such a λ is beyond any condition
     // bound, so it is never chosen either way.
     const double floor = 1e-13 * std::max(d.cwiseAbs().maxCoeff(), 1e-300);
+    // Every λ's recurrence side by side, row by row: each λ's arithmetic is
+    // its own recurrence's, but the divisions of different λ overlap instead
+    // of each waiting on the last.
     Eigen::MatrixXd X = Eigen::MatrixXd::Zero(k, L);
-    Eigen::VectorXd piv(k), y(k);
-    for (Eigen::Index l = 0; l < L; ++l) {
-      const double lj = grid[l] * n2_train / cj;
-      bool ok = true;
-      for (Eigen::Index i = 0; i < k && ok; ++i) {
-        const double off = i > 0 ? e[i - 1] : 0.0;
-        piv[i] = d[i] + lj - (i > 0 ? off * off / piv[i - 1] : 0.0);
-        ok = piv[i] > floor;
-        y[i] = b[i] - (i > 0 ? off * y[i - 1] / piv[i - 1] : 0.0);
+    Eigen::MatrixXd piv(L, k), y(L, k);  // column i: every λ's pivot and forward value at row i
+    Eigen::VectorXd lj(L);
+    std::vector<char> ok(static_cast<size_t>(L), 1);
+    for (Eigen::Index l = 0; l < L; ++l) lj[l] = grid[l] * n2_train / cj;
+    for (Eigen::Index i = 0; i < k; ++i) {
+      const double off = i > 0 ? e[i - 1] : 0.0;
+      for (Eigen::Index l = 0; l < L; ++l) {
+        if (!ok[static_cast<size_t>(l)]) continue;
+        piv(l, i) = d[i] + lj[l] - (i > 0 ? off * off / piv(l, i - 1) : 0.0);
+        ok[static_cast<size_t>(l)] = piv(l, i) > floor;
+        y(l, i) = b[i] - (i > 0 ? off * y(l, i - 1) / piv(l, i - 1) : 0.0);
       }
-      if (!ok) continue;
-      for (Eigen::Index i = k - 1; i >= 0; --i) X(i, l) = (y[i] - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv[i];
     }
+    for (Eigen::Index i = k - 1; i >= 0; --i)
+      for (Eigen::Index l = 0; l < L; ++l)
+        if (ok[static_cast<size_t>(l)]) X(i, l) = (y(l, i) - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv(l, i);
     Eigen::MatrixXd W = cls.TimesQ(c, X);  // k × L, all λ at once
     W.colwise() += prior;
     const Eigen::MatrixXd GW = held_class_gram[c] * W;

@@ -68,6 +68,28 @@ Eigen::MatrixXd NoisyRender(const Scene& s, const Eigen::MatrixXd& w, double sig
   for (Eigen::Index i = 0; i < y.size(); ++i) y(i) += noise(rng);
   return y;
 }
+// The wedges' held-out squared error of class `J` at λ, refitted on the
+// other wedges' pixels directly (dense, QR on the training rows); each
+// wedge's error relative to its ‖y‖² times the mean wedge's where `relative`.
+// Wedge `prior_only`, if any, scores the prior's weights instead of a refit.
+double DenseHeldOutError(const Scene& s, const Eigen::MatrixXd& y, const std::vector<int>& fold, int K,
+                         const std::vector<int>& J, double lambda, bool relative, int prior_only = -1) {
+  double error = 0;
+  for (int k = 0; k < K; ++k) {
+    std::vector<int> train, test;
+    for (size_t p = 0; p < fold.size(); ++p) (fold[p] == k ? test : train).push_back(static_cast<int>(p));
+    const double weight = relative ? y.squaredNorm() / K / y(test, Eigen::all).squaredNorm() : 1.0;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::MatrixXd A = s.Y[c].cast<double>()(train, J);
+      const Eigen::VectorXd b = y.col(c)(train);
+      const double cj = static_cast<double>(J.size());
+      const Eigen::VectorXd prior = Eigen::VectorXd::Constant(J.size(), 1.0 / cj);
+      const Eigen::VectorXd wj = k == prior_only ? prior : SolveRidge(A, b, lambda * b.squaredNorm() / cj, prior);
+      error += weight * (s.Y[c].cast<double>()(test, J) * wj - y.col(c)(test)).squaredNorm();
+    }
+  }
+  return error;
+}
 }  // namespace
 
 TEST(LambdaChoice, WedgesCoverTheSphereEvenlyAndTheirGramsAddUp) {
@@ -169,23 +191,37 @@ TEST(LambdaChoice, CrossValidationScoreIsTheHeldOutErrorOfARefit) {
                                            FoldObservations(s.Y, y, fold, K), s.g.size(), opt);
       for (size_t j = 0; j < members.size(); ++j)
         for (size_t l = 0; l < opt.grid.size(); ++l) {
-          double want = 0;
-          for (int k = 0; k < K; ++k) {
-            std::vector<int> train, test;
-            for (size_t p = 0; p < fold.size(); ++p) (fold[p] == k ? test : train).push_back(static_cast<int>(p));
-            const double weight = relative ? y.squaredNorm() / K / y(test, Eigen::all).squaredNorm() : 1.0;
-            for (int c = 0; c < 3; ++c) {
-              const Eigen::MatrixXd A = s.Y[c].cast<double>()(train, members[j]);
-              const Eigen::VectorXd b = y.col(c)(train);
-              const double cj = static_cast<double>(members[j].size());
-              const Eigen::VectorXd prior = Eigen::VectorXd::Constant(members[j].size(), 1.0 / cj);
-              const Eigen::VectorXd wj = SolveRidge(A, b, opt.grid[l] * b.squaredNorm() / cj, prior);
-              want += weight * (s.Y[c].cast<double>()(test, members[j]) * wj - y.col(c)(test)).squaredNorm();
-            }
-          }
+          const double want = DenseHeldOutError(s, y, fold, K, members[j], opt.grid[l], relative);
           EXPECT_NEAR(ch.score[j][l], want, 1e-7 * want) << "class " << j << " lambda " << opt.grid[l];
         }
     }
+}
+
+TEST(LambdaChoice, AWedgeSystemSingularAtOneLambdaLeavesTheOtherLambdasScoresAlone) {
+  // A basis seen only inside wedge 0 leaves that wedge's training system
+  // singular at λ = 0 (its row and column are zero), while the photo's own
+  // system is not. That wedge then scores the prior alone at λ = 0, and the
+  // grid's other λ, solved side by side with it, score as a dense refit does.
+  Scene s = MakeScene(6, 5);
+  const int K = 4;
+  const std::vector<int> fold = WedgeFolds(s.g, K);
+  for (int c = 0; c < 3; ++c)
+    for (size_t p = 0; p < fold.size(); ++p)
+      if (fold[p] != 0) s.Y[c](static_cast<Eigen::Index>(p), 5) = 0;
+  const Eigen::MatrixXd y = NoisyRender(s, Eigen::MatrixXd::Constant(6, 3, 0.2), 0.05, 3);
+  const std::vector<std::vector<int>> members = {{0, 1, 2, 3, 4, 5}};
+  const Folded x = FoldScene(s, members, K);
+  LambdaChoiceOptions opt;
+  opt.rule = "cv";
+  opt.grid = {0, 0.01, 1.0};
+  opt.max_condition = 1e300;
+  const LambdaChoice ch = ChooseLambda(x.f, FactorClasses(x.f, members), &x.cv, MakeObservation(x.f, s.Y, y),
+                                       FoldObservations(s.Y, y, x.fold, K), s.g.size(), opt);
+  for (size_t l = 0; l < opt.grid.size(); ++l) {
+    const double want =
+        DenseHeldOutError(s, y, x.fold, K, members[0], opt.grid[l], opt.relative_wedges, l == 0 ? 0 : -1);
+    EXPECT_NEAR(ch.score[0][l], want, 1e-7 * want) << "lambda " << opt.grid[l];
+  }
 }
 
 TEST(LambdaChoice, ADarkWedgeWeighsAsTheNoiseFloorItHolds) {
