@@ -262,6 +262,53 @@ void BM_SolveQrRoute(benchmark::State& state) {  // COD of [R_J; √λ_j I] per 
 }
 BENCHMARK(BM_SolveQrRoute)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// One channel's spectrum of the every-basis candidate (297 of the 300 bases,
+// as the leave-one-out evaluation factors it for every material and scene),
+// by the decompositions Eigen offers: its eigenvectors by QR iteration (what
+// FactorClasses computes), its eigenvalues alone, the right singular vectors
+// of the Gram matrix by divide and conquer (equal to the eigenvectors for a
+// positive semi-definite matrix), and the tridiagonal form with Q formed (what
+// the wedge systems use).
+enum class Spectrum { kEigenvectors, kEigenvalues, kSingularVectors, kTridiagonalWithQ };
+void BM_EveryBasisSpectrum(benchmark::State& state, Spectrum kind) {
+  const Problem& p = TheProblem();
+  static const Eigen::MatrixXd gram = [&] {
+    const Eigen::MatrixXd g = FactorBasisImages(p.Y, false)[0].gram;
+    return Eigen::MatrixXd(g.topLeftCorner(297, 297));
+  }();
+  for (auto _ : state) {
+    switch (kind) {
+      case Spectrum::kEigenvectors:
+        benchmark::DoNotOptimize(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(gram).eigenvectors().data());
+        break;
+      case Spectrum::kEigenvalues:
+        benchmark::DoNotOptimize(
+            Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(gram, Eigen::EigenvaluesOnly).eigenvalues().data());
+        break;
+      case Spectrum::kSingularVectors:
+        benchmark::DoNotOptimize(Eigen::BDCSVD<Eigen::MatrixXd>(gram, Eigen::ComputeThinV).matrixV().data());
+        break;
+      case Spectrum::kTridiagonalWithQ: {
+        const Eigen::Tridiagonalization<Eigen::MatrixXd> tri(gram);
+        const Eigen::MatrixXd q = tri.matrixQ();
+        benchmark::DoNotOptimize(q.data());
+      }
+    }
+  }
+}
+BENCHMARK_CAPTURE(BM_EveryBasisSpectrum, eigenvectors, Spectrum::kEigenvectors)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_EveryBasisSpectrum, eigenvalues, Spectrum::kEigenvalues)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_EveryBasisSpectrum, bdcsvd_v, Spectrum::kSingularVectors)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_EveryBasisSpectrum, tridiagonal_q, Spectrum::kTridiagonalWithQ)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 }  // namespace
 }  // namespace brdfshot
 
