@@ -7,6 +7,7 @@
 
 #include "calib/sun_probe.h"
 #include "fit/class_model.h"
+#include "fit/fit_confidence.h"
 #include "fit/lambda_choice.h"
 #include "fit/ood_eval.h"
 #include "fit/photo_noise.h"
@@ -93,6 +94,7 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     in.gram = std::move(grams.gram);
     in.gram_cos = std::move(grams.gram_cos);
   }
+  in.sun_gram = DirectionalImageGram(base.B, base.grid, ConfidenceSuns());
   if (opt.class_features == "cos") {
     in.class_gram = in.gram_cos;
   } else if (opt.class_features == "log-cos") {

@@ -57,6 +57,20 @@ double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double
   return std::sqrt(std::max(0.0, down2) / norm2 + std::max(0.0, up2) / norm2);
 }
 
+FitConfidence ConfidenceOf(const LambdaChoice& choice, const std::vector<ClassSpectrum>& classes,
+                           const Observation& obs, const std::function<Eigen::MatrixXd(int cls)>& metric) {
+  BRDFSHOT_CHECK(!choice.parts.empty(), "a choice without parts");
+  FitConfidence out;
+  out.prior_sensitivity = 0;
+  for (const LambdaChoice::Part& part : choice.parts) {
+    const double s = PriorSensitivity(classes.at(static_cast<size_t>(part.cls)), obs, part.lambda, metric(part.cls));
+    out.part_predicted_relit_error.push_back(part.held_out_error + s);
+    out.prior_sensitivity += part.weight * s;
+    out.predicted_relit_error += part.weight * out.part_predicted_relit_error.back();
+  }
+  return out;
+}
+
 std::vector<Eigen::MatrixXd> ClassMetrics(const Eigen::MatrixXd& gram, const std::vector<std::vector<int>>& members) {
   std::vector<Eigen::MatrixXd> out;
   for (const std::vector<int>& J : members) out.push_back(gram(J, J));
@@ -75,6 +89,58 @@ Eigen::MatrixXd SampledCosineGram(const MatrixXfR& tables, const MerlGrid& grid,
     for (Eigen::Index i = 0; i < k; ++i) S(r, i) = static_cast<double>(weight[bin]) * tables(bin, members[i]);
   }
   return S.transpose() * S;
+}
+
+std::vector<Vec3> ConfidenceSuns() {
+  std::vector<Vec3> out;
+  for (const double elevation : {30.0, 60.0})
+    for (const double azimuth : {0.0, 60.0, 120.0, 180.0}) {
+      const double el = elevation * kPi / 180, az = azimuth * kPi / 180;
+      out.emplace_back(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+    }
+  return out;
+}
+
+Eigen::MatrixXd DirectionalImageGram(const MatrixXfR& tables, const MerlGrid& grid, const std::vector<Vec3>& suns,
+                                     int sphere_pixels) {
+  BRDFSHOT_CHECK(sphere_pixels >= 2 && !suns.empty());
+  BRDFSHOT_CHECK(static_cast<size_t>(tables.rows()) == grid.size(), "tables and grid differ in bins");
+  const Eigen::Index n = tables.cols();
+  const Vec3 view(0, 0, 1);
+  const double step = 2.0 / sphere_pixels, area = step * step;
+  // Rows of radiance, one per (pixel, sun) that the sun lights, gathered in
+  // blocks so that the Gram is a few matrix products, not thousands of
+  // rank-one updates.
+  constexpr Eigen::Index kBlock = 256;
+  Eigen::MatrixXd rows(kBlock, n);
+  Eigen::Index filled = 0;
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(n, n);
+  const auto flush = [&] {
+    if (filled) gram.selfadjointView<Eigen::Lower>().rankUpdate(rows.topRows(filled).transpose(), area);
+    filled = 0;
+  };
+  for (int py = 0; py < sphere_pixels; ++py)
+    for (int px = 0; px < sphere_pixels; ++px) {
+      const double x = -1 + (px + 0.5) * step, y = 1 - (py + 0.5) * step, r2 = x * x + y * y;
+      if (r2 >= 1) continue;
+      const Vec3 normal(x, y, std::sqrt(1 - r2));
+      // Any tangent frame serves: the tables are isotropic.
+      const Frame frame = Frame::FromZX(normal, view);
+      const Vec3 wo = frame.ToLocal(view);
+      for (const Vec3& sun : suns) {
+        const double cos_i = Dot(normal, sun);
+        if (cos_i <= 0) continue;
+        size_t idx[8];
+        double w[8];
+        const int k = grid.TrilinearCorners(ToHalfDiff(frame.ToLocal(sun), wo), idx, w);
+        auto row = rows.row(filled);
+        row.setZero();
+        for (int c = 0; c < k; ++c) row += (cos_i * w[c]) * tables.row(static_cast<Eigen::Index>(idx[c])).cast<double>();
+        if (++filled == kBlock) flush();
+      }
+    }
+  flush();
+  return gram.selfadjointView<Eigen::Lower>();
 }
 
 }  // namespace brdfshot

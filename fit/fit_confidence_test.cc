@@ -67,6 +67,36 @@ TEST(PriorSensitivity, ZeroLambdaStepsUpToTheGridsScale) {
   EXPECT_NEAR(PriorSensitivity(cls, obs, 0, G), std::abs(up - w) / w, 1e-12);
 }
 
+// A blend of two parts of the one-basis class above, at λ = 0.1 (weight
+// 0.75, held-out error 0.02) and at λ = 0 (weight 0.25, held-out error 0.04):
+// each part's predicted relit error is its held-out error plus its own
+// sensitivity (the closed forms above), and the fit's are the weighted means.
+TEST(ConfidenceOf, AddsEachPartsSensitivityToItsHeldOutErrorAndWeighsTheParts) {
+  const Eigen::MatrixXd G = Eigen::MatrixXd::Identity(1, 1);
+  const ClassSpectrum cls = FactorClasses(Factors(G), {{0}})[0];
+  Observation obs;
+  for (int c = 0; c < 3; ++c) obs.z[c] = Eigen::VectorXd::Constant(1, 2.0), obs.norm2[c] = 4;
+  const double w = 1 + 1 / 1.4;
+  const double s_a = std::hypot((1 + 1 / 1.04 - w) / w, (1 + 1 / 5.0 - w) / w);
+  const double s_b = std::abs(1 + 1 / (1 + 4e-4) - 2) / 2;
+  LambdaChoice choice;
+  // The parts' own sensitivities are the penalty's, in another metric: not used.
+  choice.parts = {{0, 0.1, 0.75, 0, 123.0, 0.02}, {0, 0.0, 0.25, 0, 456.0, 0.04}};
+  int asked = 0;
+  const FitConfidence conf = ConfidenceOf({choice}, {cls}, obs, [&](int j) {
+    EXPECT_EQ(j, 0);
+    ++asked;
+    return Eigen::MatrixXd(3.0 * G);
+  });
+  EXPECT_EQ(asked, 2);
+  ASSERT_EQ(conf.part_predicted_relit_error.size(), 2u);
+  EXPECT_NEAR(conf.part_predicted_relit_error[0], 0.02 + s_a, 1e-12);
+  EXPECT_NEAR(conf.part_predicted_relit_error[1], 0.04 + s_b, 1e-12);
+  EXPECT_NEAR(conf.prior_sensitivity, 0.75 * s_a + 0.25 * s_b, 1e-12);
+  EXPECT_NEAR(conf.predicted_relit_error, 0.75 * (0.02 + s_a) + 0.25 * (0.04 + s_b), 1e-12);
+  EXPECT_THROW(ConfidenceOf(LambdaChoice{}, {cls}, obs, [&](int) { return Eigen::MatrixXd(G); }), std::exception);
+}
+
 // Every bin (stride 1) gives database.h's GramMatrix with the cosine weights
 // over the chosen columns; every 7th bin, the same sum over those bins alone
 // (to float precision: GramMatrix sums each block of bins in float).
@@ -86,6 +116,60 @@ TEST(SampledCosineGram, IsTheCosineWeightedGramOverTheSampledBins) {
   for (Eigen::Index i = 0; i < B.rows(); i += 7) every7.row(i / 7) = B.row(i), w7.push_back(w[i]);
   const Eigen::MatrixXd sampled = GramMatrix(every7, &w7);
   EXPECT_LT((SampledCosineGram(B, grid, members, 7) - sampled(members, members)).norm(), 1e-5 * sampled.norm());
+}
+
+// A constant BRDF ρ = 1 (a Lambertian of albedo π) under a unit sun l shows
+// radiance max(0, n·l) on the sphere, so the image Gram is ∫_disk max(0, n·l)² dA:
+// for l = v, ∫ (1 − r²) dA = π/2; for l straight up, ∫_{y>0} y² dA = π/8.
+// A second basis twice the first gives the matrix's other entries exactly.
+TEST(DirectionalImageGram, AConstantBrdfMatchesTheClosedForms) {
+  const MerlGrid grid{6, 6, 12};
+  MatrixXfR B(static_cast<Eigen::Index>(grid.size()), 2);
+  B.col(0).setOnes();
+  B.col(1).setConstant(2);
+  const Eigen::MatrixXd facing = DirectionalImageGram(B, grid, {Vec3(0, 0, 1)}, 400);
+  EXPECT_NEAR(facing(0, 0), kPi / 2, 2e-3 * kPi / 2);
+  EXPECT_NEAR(facing(0, 1), 2 * facing(0, 0), 1e-9);
+  EXPECT_NEAR(facing(1, 0), 2 * facing(0, 0), 1e-9);
+  EXPECT_NEAR(facing(1, 1), 4 * facing(0, 0), 1e-9);
+  const Eigen::MatrixXd above = DirectionalImageGram(B, grid, {Vec3(0, 1, 0)}, 400);
+  EXPECT_NEAR(above(0, 0), kPi / 8, 1e-2 * kPi / 8);
+  // Suns add: both together are the sum of each alone.
+  const Eigen::MatrixXd both = DirectionalImageGram(B, grid, {Vec3(0, 0, 1), Vec3(0, 1, 0)}, 400);
+  EXPECT_NEAR(both(0, 0), facing(0, 0) + above(0, 0), 1e-9);
+}
+
+// Radiance is read where the sun and the view put it: a table that is zero
+// except in the first θ_h cell (θ_h < (1/4)² · 90° ≈ 5.6°, the mirror
+// direction) lights only the normals within that angle of the half vector.
+// Seen head-on (sun at the view) they cover a disk of radius ≤ sin 5.6° lit
+// at cos θ_i ≈ 1. With the sun straight up the half vector is 45° from the
+// view: the same cone of normals, foreshortened by cos 45° on the raster and
+// lit at cos θ_i = cos 45°, gives (cos 45°)³ of the head-on integral.
+TEST(DirectionalImageGram, ReadsTheTableAtEachPixelsHalfVector) {
+  const MerlGrid grid{4, 6, 12};
+  MatrixXfR B = MatrixXfR::Zero(static_cast<Eigen::Index>(grid.size()), 1);
+  for (int j = 0; j < grid.n_td; ++j)
+    for (int k = 0; k < grid.n_pd; ++k) B(static_cast<Eigen::Index>(grid.Index(0, j, k)), 0) = 1;
+  const double head_on = DirectionalImageGram(B, grid, {Vec3(0, 0, 1)}, 400)(0, 0);
+  const double radius = std::sin(kPi / 2 / 16);
+  EXPECT_GT(head_on, 0.05 * kPi * radius * radius);
+  EXPECT_LT(head_on, kPi * radius * radius);
+  const double above = DirectionalImageGram(B, grid, {Vec3(0, 1, 0)}, 400)(0, 0);
+  EXPECT_NEAR(above / head_on, std::pow(std::sqrt(0.5), 3), 0.03);
+}
+
+TEST(ConfidenceSuns, AreUnitVectorsAboveTheHorizonFrontSideAndBack) {
+  const std::vector<Vec3> suns = ConfidenceSuns();
+  ASSERT_EQ(suns.size(), 8u);
+  bool front = false, back = false;
+  for (const Vec3& s : suns) {
+    EXPECT_NEAR(Length(s), 1, 1e-12);
+    EXPECT_GT(s.y, 0.4);
+    front = front || s.z > 0.4;
+    back = back || s.z < -0.4;
+  }
+  EXPECT_TRUE(front && back);
 }
 
 }  // namespace brdfshot

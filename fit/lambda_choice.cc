@@ -550,16 +550,6 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
   return out;
 }
 
-double BlendedPriorSensitivity(const LambdaChoice& choice, const std::vector<ClassSpectrum>& classes,
-                               const Observation& obs, const std::function<Eigen::MatrixXd(int cls)>& metric) {
-  double s = 0;
-  for (const LambdaChoice::Part& part : choice.parts)
-    s += part.weight * (std::isnan(part.sensitivity)
-                            ? PriorSensitivity(classes.at(part.cls), obs, part.lambda, metric(part.cls))
-                            : part.sensitivity);
-  return s;
-}
-
 namespace {
 // Σ a_j b_j in double, a widened as it is read. Eight running sums, added in
 // a fixed order, so the compiler can keep them in one vector register: a

@@ -26,7 +26,6 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <array>
-#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -189,9 +188,11 @@ struct LambdaChoice {
   // squared error), else GCV's estimate: the fit's error on pixels it was not
   // fitted to.
   double held_out_error = 0;
-  // The fit's predicted error on lighting it was not fitted to: the held-out
-  // error times (1 + a·s) where the sensitivity penalty computed the pick's
-  // prior sensitivity s (rule cv), else the held-out error.
+  // The pick's penalised error: the held-out error times (1 + a·s) where the
+  // sensitivity penalty computed the pick's prior sensitivity s (rule cv),
+  // else the held-out error. What a fit reports as its predicted relit error
+  // is its FitConfidence (fit_confidence.h), which weighs the prior in the
+  // images of other lighting rather than in the penalty's BRDF metric.
   double predicted_error = 0;
   // No λ of the grid kept any class within max_condition: the grid's largest
   // λ was taken instead of the criterion's pick.
@@ -312,12 +313,5 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
                           const CvSystem* cv, const Observation& obs, const std::vector<Observation>& held,
                           size_t pixels, const LambdaChoiceOptions& opt,
                           const std::vector<Eigen::MatrixXd>* metrics = nullptr);
-
-// The fit's prior sensitivity: its parts' PriorSensitivity weighted by their
-// weights, each the λ choice's own where its penalty computed it (the same
-// metric) and else computed with `metric(cls)`, the BRDF metric over class
-// cls's members.
-double BlendedPriorSensitivity(const LambdaChoice& choice, const std::vector<ClassSpectrum>& classes,
-                               const Observation& obs, const std::function<Eigen::MatrixXd(int cls)>& metric);
 
 }  // namespace brdfshot

@@ -319,10 +319,11 @@ AutoFit SolveChoice(const LooInputs& in, WeightConstraint::Kind kind, const std:
       out.signed_weights += part.weight * signed_weights;
     }
   }
-  if (with_sensitivity && in.gram_cos.rows() == f[0].gram.rows())
-    out.prior_sensitivity = BlendedPriorSensitivity(choice, classes, obs, [&](int j) {
+  const Eigen::MatrixXd& metric = in.sun_gram.rows() == f[0].gram.rows() ? in.sun_gram : in.gram_cos;
+  if (with_sensitivity && metric.rows() == f[0].gram.rows())
+    out.confidence = ConfidenceOf(choice, classes, obs, [&](int j) {
       const std::vector<int>& J = classes[static_cast<size_t>(j)].members;
-      return Eigen::MatrixXd(in.gram_cos(J, J));
+      return Eigen::MatrixXd(metric(J, J));
     });
   return out;
 }
@@ -445,7 +446,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
             in.scenes, a, [&](int b) { return relit[static_cast<size_t>(b)][i]; }, &row);
         row.brdf = brdf[i];
         row.insample = relit[static_cast<size_t>(a)][i];
-        if (row.method == "auto") row.prior_sensitivity = fit.prior_sensitivity;
+        if (row.method == "auto" && fit.confidence.prior_sensitivity >= 0)
+          row.prior_sensitivity = fit.confidence.prior_sensitivity, row.predicted = fit.confidence.predicted_relit_error;
         per_material[m].push_back(row);
       }
       SetNegativeBins(in.bin_sample, methods, &per_material[m][per_material[m].size() - methods.size()]);

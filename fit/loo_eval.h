@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "fit/class_model.h"
+#include "fit/fit_confidence.h"
 #include "fit/lambda_choice.h"
 #include "fit/lambert_ggx.h"
 #include "fit/solver.h"
@@ -77,6 +78,9 @@ struct LooInputs {
   Eigen::MatrixXd gram;                // BᵀB
   Eigen::MatrixXd class_gram;          // what "ours" and "auto" cluster (ClassFeatures); empty: gram
   Eigen::MatrixXd gram_cos;            // Bᵀ diag(cos²) B (BRDF metric)
+  // The confidence's metric: DirectionalImageGram of the tables under
+  // ConfidenceSuns (fit_confidence.h), as `fit` measures it. Empty: gram_cos.
+  Eigen::MatrixXd sun_gram;
   std::vector<SceneFactors> scenes;    // one per probe
   // A sample of the database's bins (rows of its tables, SampleBins): every
   // fitted BRDF is evaluated there to count negative values. Empty: not counted.
@@ -169,11 +173,11 @@ Eigen::MatrixXd SignedWeights(const ClassSolution& fit, const std::array<Channel
 // The default fit of one photo: every part of `choice` solved by SolveAuto
 // and blended by its weight (LambdaChoice::parts). `weights` and
 // `signed_weights` (each part's SignedWeights, blended alike) are n × 3;
-// `prior_sensitivity`, with `with_sensitivity` and in.gram_cos, is the parts'
-// PriorSensitivity, weighted alike (-1 otherwise).
+// `confidence`, with `with_sensitivity`, is ConfidenceOf the choice in
+// in.sun_gram (else in.gram_cos; fit_confidence.h), prior sensitivity -1 otherwise.
 struct AutoFit {
   Eigen::MatrixXd weights, signed_weights;
-  double prior_sensitivity = -1;
+  FitConfidence confidence;
 };
 AutoFit SolveChoice(const LooInputs& in, WeightConstraint::Kind kind, const std::array<ChannelFactor, 3>& f,
                     const Observation& obs, const std::vector<ClassSpectrum>& classes, const LambdaChoice& choice,

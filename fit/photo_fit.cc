@@ -51,13 +51,16 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   const std::vector<std::vector<int>> members = CandidateMembers(model_members, every_basis, opt.lambda);
   const std::vector<ClassSpectrum> classes = FactorClasses(f, members);
   // The BRDF metric (every constraint_stride-th bin of the tables) of the
-  // prior sensitivity, for the λ choice's penalty and the fit's confidence;
-  // it needs the tables' grid (every basis file has one; a table without its
-  // grid, as in unit tests of the solve, gets none).
-  std::vector<Eigen::MatrixXd> metrics;
-  if (tables && basis.header.contains("grid") && basis.Grid().size() == static_cast<size_t>(tables->rows()))
+  // prior sensitivity in the λ choice's penalty, and the confidence's image
+  // metric, a sphere under suns (fit_confidence.h), the lighting a photo's
+  // probe shows least. Both need the tables' grid (every basis file has one;
+  // a table without its grid, as in unit tests of the solve, gets none).
+  std::vector<Eigen::MatrixXd> metrics, sun_metrics;
+  if (tables && basis.header.contains("grid") && basis.Grid().size() == static_cast<size_t>(tables->rows())) {
     metrics = ClassMetrics(SampledCosineGram(*tables, basis.Grid(), every_basis, std::max(1, opt.constraint_stride)),
                            members);
+    sun_metrics = ClassMetrics(DirectionalImageGram(*tables, basis.Grid(), ConfidenceSuns()), members);
+  }
   // The folds serve the choice (rule cv) and the predicted error (every rule).
   const int folds = std::max(2, opt.folds);
   const std::vector<int> fold_of_pixel = folds_given ? *folds_given : WedgeFolds(basis.geometry, folds);
@@ -119,9 +122,15 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   out.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(every_basis.size()), 3);
   for (const LambdaChoice::Part& part : out.choice.parts)
     out.weights += part.weight * out.fit.classes[part.cls].weights;
-  if (!metrics.empty())
-    out.prior_sensitivity =
-        BlendedPriorSensitivity(out.choice, classes, obs, [&](int cls) { return metrics[static_cast<size_t>(cls)]; });
+  if (!sun_metrics.empty()) {
+    out.confidence =
+        ConfidenceOf(out.choice, classes, obs, [&](int cls) { return sun_metrics[static_cast<size_t>(cls)]; });
+  } else {
+    // Nothing to weigh the prior's moves with: the wedges' error alone.
+    out.confidence.predicted_relit_error = out.choice.held_out_error;
+    for (const LambdaChoice::Part& part : out.choice.parts)
+      out.confidence.part_predicted_relit_error.push_back(part.held_out_error);
+  }
   const Eigen::MatrixXd& w = out.weights;
   out.reconstruction.resize(y.rows(), 3);
   for (int c = 0; c < 3; ++c) out.reconstruction.col(c) = basis.Y[c].cast<double>() * w.col(c);
@@ -147,9 +156,9 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
                                                   : ConstraintName(WeightConstraint::Kind::kNone);
   r.lambda = f.choice.lambda;
   r.lambda_beyond_condition_bound = f.choice.beyond_condition_bound;
-  r.predicted_relit_error = f.choice.predicted_error;
   r.held_out_error = f.choice.held_out_error;
-  r.prior_sensitivity = f.prior_sensitivity;
+  r.prior_sensitivity = f.confidence.prior_sensitivity;
+  r.predicted_relit_error = f.confidence.predicted_relit_error;
   r.relative_noise = f.relative_noise;
   r.bound_noise = f.bound_noise;
   r.condition_bound = f.choice.condition_bound;
@@ -158,6 +167,8 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.min_wedge_share = f.choice.min_wedge_share;
   r.chosen_class = f.fit.chosen;
   r.parts = f.choice.parts;
+  if (f.confidence.part_predicted_relit_error.size() == r.parts.size())
+    for (size_t i = 0; i < r.parts.size(); ++i) r.parts[i].predicted_error = f.confidence.part_predicted_relit_error[i];
   r.relative_residual = f.relative_residual;
   for (const ClassSolution& s : f.fit.classes) r.classes.push_back({s.members, s.residual, s.condition[1], s.path});
   r.lambda_grid = f.choice.grid;

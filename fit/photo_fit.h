@@ -12,6 +12,7 @@
 #include "fit/basis_images.h"
 #include "fit/database.h"
 #include "fit/class_model.h"
+#include "fit/fit_confidence.h"
 #include "fit/lambda_choice.h"
 #include "fit/lambert_ggx.h"
 #include "fit/solver.h"
@@ -45,11 +46,12 @@ struct PhotoFit {
   double seconds_solve = 0;        // the photo's projections, the λ search and the solve
   double seconds_table_check = 0;  // kBins: the whole table checked for bins below zero (and re-solves)
   int negative_bins_added = 0;     // kBins: bins off the sample found below zero and constrained too
-  // How much the fit's BRDF moves when λ moves a decade either way
-  // (fit/fit_confidence.h; the metric from every constraint_stride-th bin of
-  // the tables; the parts' weighted mean for a blend); -1 when no tables (or
-  // none on the basis images' grid) were given.
-  double prior_sensitivity = -1;
+  // How much the fit's BRDF moves when λ moves a decade either way, in the
+  // images of a sphere under ConfidenceSuns, and the predicted relit error it
+  // gives (fit/fit_confidence.h; the parts' weighted means for a blend);
+  // prior sensitivity -1 when no tables (or none on the basis images' grid)
+  // were given.
+  FitConfidence confidence;
   double relative_noise = 0;  // the photo's pixel noise (kUnknownNoise: not measurable)
   // What the condition bound followed: the pixel noise, or what the largest
   // candidate's fit leaves where that reads less (BoundPixelNoise and
@@ -86,7 +88,7 @@ struct FitRecord {
   double lambda = 0;
   bool lambda_beyond_condition_bound = false;  // LambdaChoice::beyond_condition_bound
   std::string weights_constraint = "none";     // ConstraintName of the chosen class's solve
-  double predicted_relit_error = 0;            // LambdaChoice::predicted_error
+  double predicted_relit_error = 0;            // PhotoFit::confidence's (the held-out error without one)
   double held_out_error = 0;                   // LambdaChoice::held_out_error
   double prior_sensitivity = -1;               // PhotoFit::prior_sensitivity (-1: not measured)
   // The photo's relative pixel noise and the condition bound the λ search ran
@@ -97,8 +99,8 @@ struct FitRecord {
   double penalty_gate = -1;        // LambdaChoice::penalty_gate (-1: none)
   double min_wedge_share = -1;     // LambdaChoice::min_wedge_share (-1: each wedge's error as it is)
   int chosen_class = -1;
-  // The fit's parts (LambdaChoice::parts): class, λ, weight, predicted and
-  // held-out error; none is written as the pick alone (chosen_class at
+  // The fit's parts (LambdaChoice::parts): class, λ, weight, predicted
+  // (FitConfidence's) and held-out error; none is written as the pick alone (chosen_class at
   // lambda, weight 1).
   std::vector<LambdaChoice::Part> parts;
   double relative_residual = 0;

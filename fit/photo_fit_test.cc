@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "fit/bin_constraints.h"
+#include "fit/fit_confidence.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -90,7 +92,17 @@ TEST(FitPhoto, AMaterialAcrossTheClassesIsFoundByTheEveryBasisCandidate) {
   ASSERT_EQ(every.choice.sensitivity.size(), 3u);
   EXPECT_EQ(every.choice.sensitivity_penalty, 1);
   EXPECT_EQ(classes.choice.sensitivity_penalty, 1) << "the penalty weighs the classes too";
-  EXPECT_NEAR(every.choice.sensitivity[2][at], every.prior_sensitivity, 1e-12);
+  ASSERT_TRUE(std::isfinite(every.choice.sensitivity[2][at]));
+  // fit.json's confidence weighs the same moves in the image metric of a
+  // sphere under the confidence's suns, not in the penalty's BRDF metric.
+  ASSERT_EQ(every.choice.parts.size(), 1u);
+  const std::array<ChannelFactor, 3> f = FactorBasisImages(gridded.basis.Y);
+  std::vector<int> all(12);
+  for (int i = 0; i < 12; ++i) all[i] = i;
+  const ClassSpectrum cls = FactorClasses(f, {all})[0];
+  const Eigen::MatrixXd suns = DirectionalImageGram(s.tables, gridded.basis.Grid(), ConfidenceSuns());
+  EXPECT_NEAR(every.confidence.prior_sensitivity,
+              PriorSensitivity(cls, MakeObservation(f, gridded.basis.Y, y), every.choice.lambda, suns), 1e-9);
 }
 
 TEST(FitPhoto, ABlendIsItsPartsWeightedAndRelightsNoWorseThanTheirMean) {
@@ -160,6 +172,10 @@ TEST(FitPhoto, NoiseRaisesTheChosenLambdaAndThePredictedError) {
   const PhotoFit b = FitPhoto(s.basis, s.model, noisy, PhotoFitOptions{}, &s.tables);
   EXPECT_GT(b.choice.lambda, a.choice.lambda);
   EXPECT_GT(b.choice.predicted_error, 5 * a.choice.predicted_error);
+  // No grid for the tables, so no image metric: the confidence is the wedges' error.
+  EXPECT_EQ(b.confidence.prior_sensitivity, -1);
+  EXPECT_EQ(b.confidence.predicted_relit_error, b.choice.held_out_error);
+  EXPECT_GT(b.confidence.predicted_relit_error, 5 * a.confidence.predicted_relit_error);
   // With the noise, the fit stays nearer the truth than the noisy photo is.
   EXPECT_LT((b.reconstruction - clean).norm(), 0.5 * (noisy - clean).norm());
 }
