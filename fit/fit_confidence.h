@@ -16,9 +16,9 @@
 // photo's own lighting and what the prior decides, which another lighting
 // shows. A sum, not a product or a penalty factor, because the two are errors
 // of the same images that add up in the worst case (the triangle inequality);
-// docs/benchmarks.md measures how well it ranks the actual relit error and
-// how far above it the sum lies. `brdfshot eval` reports how well it ranks the fits'
-// actual relit error, with and without the wedge error (docs/benchmarks.md).
+// `brdfshot eval` reports how well it ranks the fits' actual relit error;
+// docs/benchmarks.md measures that and how far above the actual error the
+// sum lies.
 #pragma once
 
 #include <Eigen/Core>

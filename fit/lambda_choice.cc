@@ -517,10 +517,8 @@ LambdaChoice ChooseLambda(const std::array<ChannelFactor, 3>& f, const std::vect
     }
   }
   // With the penalty, a part's predicted error is its held-out error weighed
-  // as the pick weighs it, times (1 + a·s): the wedges share the photo's
-  // lighting and miss what the prior decides, which another lighting shows.
-  // Weighed, it ranks the fits' relit error better than the held-out error
-  // alone and is nearer its size (docs/benchmarks.md).
+  // as the pick weighs it, times (1 + a·s): the score the pick compared. The
+  // error a fit reports is its FitConfidence, in the image metric.
   auto weighed = [&](double held_out, double sensitivity) {
     return std::isfinite(sensitivity) ? held_out * (1 + out.sensitivity_penalty * sensitivity) : held_out;
   };

@@ -140,7 +140,7 @@ struct LooRow {
   double relit_directional = -1;  // mean over the scoring-only scenes (-1: none)
   double negative_bins = -1;      // NegativeBinShare of the fitted BRDF (-1: not counted)
   double condition_bound = -1;    // "auto…": the bound its λ search ran under (-1: none)
-  double prior_sensitivity = -1;  // "auto": PriorSensitivity of its class and λ (fit_confidence.h; -1: none)
+  double prior_sensitivity = -1;  // "auto": its FitConfidence's, in the image metric (fit_confidence.h; -1: none)
 };
 
 // One method's fit of one photo, as the evaluations score it.

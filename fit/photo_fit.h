@@ -90,7 +90,7 @@ struct FitRecord {
   std::string weights_constraint = "none";     // ConstraintName of the chosen class's solve
   double predicted_relit_error = 0;            // PhotoFit::confidence's (the held-out error without one)
   double held_out_error = 0;                   // LambdaChoice::held_out_error
-  double prior_sensitivity = -1;               // PhotoFit::prior_sensitivity (-1: not measured)
+  double prior_sensitivity = -1;               // PhotoFit::confidence's (-1: not measured)
   // The photo's relative pixel noise and the condition bound the λ search ran
   // under (lambda_choice.h, photo_noise.h); -1: not recorded.
   double relative_noise = -1, condition_bound = -1;
