@@ -143,7 +143,7 @@ CaptureReport WriteCaptureReport(const CaptureReportOptions& o) {
        << "); predicted relit error " << Fixed(f.predicted_relit_error, 4)
        << (f.prior_sensitivity >= 0
                ? ", prior sensitivity " + Fixed(f.prior_sensitivity, 3) +
-                     " (how much the BRDF moves when λ moves a decade either way: large where the photo leaves it "
+                     " (how much the sphere's images under eight suns move when λ moves a decade either way: large where the photo leaves it "
                      "to the prior)"
                : std::string())
        << (f.lambda_rule != "fixed" && f.condition_bound > 0 && f.relative_noise >= 0
