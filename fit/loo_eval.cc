@@ -263,7 +263,7 @@ LooRow LambertGgxRow(const LooInputs& in, int a, int m, const std::string& mater
 }
 
 LooRow MethodRow(const FittedMethod& method, const std::string& material, const std::string& probe,
-                 const LambdaChoice& choice, double fixed_lambda) {
+                 const LambdaChoice& choice, double fixed_lambda, const FitConfidence* confidence) {
   LooRow row;
   row.material = material;
   row.probe = probe;
@@ -274,6 +274,8 @@ LooRow MethodRow(const FittedMethod& method, const std::string& material, const 
     row.lambda = choice.lambda, row.predicted = choice.predicted_error, row.held_out = choice.held_out_error;
     row.condition_bound = choice.condition_bound;
   }
+  if (name == "auto" && confidence && confidence->prior_sensitivity >= 0)
+    row.prior_sensitivity = confidence->prior_sensitivity, row.predicted = confidence->predicted_relit_error;
   if (name == "ours" || name == "paper") row.lambda = fixed_lambda;
   return row;
 }
@@ -441,13 +443,11 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const std::vector<double> brdf = RelativeErrors(gcos, weights, m);
       for (size_t i = 0; i < methods.size(); ++i) {
         const FittedMethod& meth = methods[i];
-        LooRow row = MethodRow(meth, in.materials[m], in.scenes[a].probe, choice, opt.lambda);
+        LooRow row = MethodRow(meth, in.materials[m], in.scenes[a].probe, choice, opt.lambda, &fit.confidence);
         ScoreRelit(
             in.scenes, a, [&](int b) { return relit[static_cast<size_t>(b)][i]; }, &row);
         row.brdf = brdf[i];
         row.insample = relit[static_cast<size_t>(a)][i];
-        if (row.method == "auto" && fit.confidence.prior_sensitivity >= 0)
-          row.prior_sensitivity = fit.confidence.prior_sensitivity, row.predicted = fit.confidence.predicted_relit_error;
         per_material[m].push_back(row);
       }
       SetNegativeBins(in.bin_sample, methods, &per_material[m][per_material[m].size() - methods.size()]);

@@ -152,9 +152,10 @@ struct FittedMethod {
 
 // The row of a fit, before scoring: which material, probe and method, and how
 // λ was set ("auto…": the choice's λ and predicted error; "ours" and
-// "paper": `fixed_lambda`).
+// "paper": `fixed_lambda`). "auto" takes its prior sensitivity and predicted
+// error from `confidence` where that measured one.
 LooRow MethodRow(const FittedMethod& method, const std::string& material, const std::string& probe,
-                 const LambdaChoice& choice, double fixed_lambda);
+                 const LambdaChoice& choice, double fixed_lambda, const FitConfidence* confidence = nullptr);
 
 // The "auto" fit of class `cls` at `lambda` under `kind` (its weights, n × 3,
 // and for kNone and kBins the same solve unconstrained); for kBins, the

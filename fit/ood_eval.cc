@@ -167,13 +167,11 @@ LooResult RunOutOfDatabase(const LooInputs& bases, const std::vector<TargetScene
           {"ours", ours.weights(), ours.chosen},        {"paper", paper.weights(), paper.chosen},
           {"lsq", SolveLeastSquares(fa, obs, all), -1}, {"relit-oracle", oracle, -1}};
       for (const FittedMethod& m : methods) {
-        LooRow row = MethodRow(m, targets[t], bases.scenes[a].probe, choice, opt.lambda);
+        LooRow row = MethodRow(m, targets[t], bases.scenes[a].probe, choice, opt.lambda, &fit.confidence);
         ScoreRelit(
             bases.scenes, a, [&](int b) { return TargetError(bases.scenes[b].f.data(), scenes[b], m.w, t); }, &row);
         row.brdf = std::nan("");
         row.insample = TargetError(fa.data(), ta, m.w, t);
-        if (row.method == "auto" && fit.confidence.prior_sensitivity >= 0)
-          row.prior_sensitivity = fit.confidence.prior_sensitivity, row.predicted = fit.confidence.predicted_relit_error;
         per_target[t].push_back(row);
       }
       SetNegativeBins(bases.bin_sample, methods, &per_target[t][per_target[t].size() - methods.size()]);

@@ -167,8 +167,9 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.min_wedge_share = f.choice.min_wedge_share;
   r.chosen_class = f.fit.chosen;
   r.parts = f.choice.parts;
-  if (f.confidence.part_predicted_relit_error.size() == r.parts.size())
-    for (size_t i = 0; i < r.parts.size(); ++i) r.parts[i].predicted_error = f.confidence.part_predicted_relit_error[i];
+  BRDFSHOT_CHECK(f.confidence.part_predicted_relit_error.size() == r.parts.size(),
+                 "the confidence and the choice differ in parts");
+  for (size_t i = 0; i < r.parts.size(); ++i) r.parts[i].predicted_error = f.confidence.part_predicted_relit_error[i];
   r.relative_residual = f.relative_residual;
   for (const ClassSolution& s : f.fit.classes) r.classes.push_back({s.members, s.residual, s.condition[1], s.path});
   r.lambda_grid = f.choice.grid;
