@@ -9,35 +9,36 @@
 
 namespace brdfshot {
 
-BinRows::BinRows(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& rows) {
+BinRows::BinRows(const TablesRef& tables, const std::vector<int>& members, const std::vector<int>& rows) {
   Append(tables, members, rows);
 }
 
-BinRows BinRows::EveryNth(const MatrixXfR& tables, const std::vector<int>& members, int stride) {
+BinRows BinRows::EveryNth(const TablesRef& tables, const std::vector<int>& members, int stride) {
   BRDFSHOT_CHECK(stride >= 1);
   std::vector<int> rows;
   for (Eigen::Index i = 0; i < tables.rows(); i += stride) rows.push_back(static_cast<int>(i));
   return BinRows(tables, members, rows);
 }
 
-BinRows BinRows::AllRows(const MatrixXfR& tables, const std::vector<int>& members) {
+BinRows BinRows::AllRows(const TablesRef& tables, const std::vector<int>& members) {
   if (10 * members.size() < 9 * static_cast<size_t>(tables.cols())) return EveryNth(tables, members, 1);
   for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables.cols(), "BinRows: member out of range");
   BinRows b;
-  b.source_ = &tables;
+  b.source_ = tables.data();
+  b.source_rows_ = tables.rows(), b.source_cols_ = tables.cols(), b.source_stride_ = tables.outerStride();
   b.members_ = members;
   b.AddRowNorms(0);
   return b;
 }
 
 void BinRows::AddRowNorms(Eigen::Index from) {
-  const MatrixXfR& a = source_ ? *source_ : a_;
+  const TablesRef a = in_place() ? TablesRef(Source()) : TablesRef(a_);
   norms_.conservativeResize(a.rows());
   for (Eigen::Index i = from; i < a.rows(); ++i) norms_[i] = a.row(i).cast<double>().norm();
 }
 
-void BinRows::Append(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& table_rows) {
-  if (source_) *this = EveryNth(*source_, members_, 1);  // the rows read in place become a copy that can grow
+void BinRows::Append(const TablesRef& tables, const std::vector<int>& members, const std::vector<int>& table_rows) {
+  if (in_place()) *this = EveryNth(Source(), members_, 1);  // the rows read in place become a copy that can grow
   BRDFSHOT_CHECK(a_.size() == 0 || a_.cols() == static_cast<Eigen::Index>(members.size()),
                  "BinRows: appended rows over other members");
   for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables.cols(), "BinRows: member out of range");
@@ -64,11 +65,11 @@ Eigen::MatrixXd BinRows::Times(const Eigen::MatrixXd& w) const {
 
 Eigen::MatrixXd BinRows::TimesRows(const Eigen::MatrixXd& w, const std::vector<int>& which) const {
   BRDFSHOT_CHECK(w.rows() == cols());
-  const MatrixXfR& a = source_ ? *source_ : a_;
+  const TablesRef a = in_place() ? TablesRef(Source()) : TablesRef(a_);
   // Each column of w contiguous, for the dot products; in place, spread over
   // every column of the source with zeros outside the members.
   MatrixXdR wt;
-  if (source_) {
+  if (in_place()) {
     wt = MatrixXdR::Zero(w.cols(), a.cols());
     for (size_t k = 0; k < members_.size(); ++k) wt.col(members_[k]) = w.row(static_cast<Eigen::Index>(k)).transpose();
   } else {
@@ -95,9 +96,8 @@ Eigen::MatrixXd BinRows::Rows(const std::vector<int>& which) const {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(which.size()), cols());
   for (size_t i = 0; i < which.size(); ++i) {
     const Eigen::Index r = static_cast<Eigen::Index>(i);
-    if (source_)
-      for (size_t k = 0; k < members_.size(); ++k)
-        out(r, static_cast<Eigen::Index>(k)) = (*source_)(which[i], members_[k]);
+    if (in_place())
+      for (size_t k = 0; k < members_.size(); ++k) out(r, static_cast<Eigen::Index>(k)) = Source()(which[i], members_[k]);
     else
       out.row(r) = a_.row(which[i]).cast<double>();
   }
@@ -105,9 +105,10 @@ Eigen::MatrixXd BinRows::Rows(const std::vector<int>& which) const {
 }
 
 double BinRows::RowSum(Eigen::Index i) const {
-  if (!source_) return a_.row(i).cast<double>().sum();
+  if (!in_place()) return a_.row(i).cast<double>().sum();
+  const TablesMap source = Source();
   double sum = 0;
-  for (int m : members_) sum += (*source_)(i, m);
+  for (int m : members_) sum += source(i, m);
   return sum;
 }
 
@@ -125,7 +126,7 @@ bool IsNegativeBin(const float* row, const std::vector<int>& members, const doub
   return false;
 }
 
-std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ) {
+std::vector<int> NegativeBins(const TablesRef& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ) {
   BRDFSHOT_CHECK(wJ.rows() == static_cast<Eigen::Index>(members.size()) && wJ.cols() == 3);
   const MatrixXdR w3 = wJ;  // row-major: member k's three channels side by side
   const Eigen::Index rows = tables.rows();

@@ -21,6 +21,7 @@
 #include <functional>
 #include <vector>
 
+#include "fit/basis_tables.h"
 #include "util/eigen_types.h"
 
 namespace brdfshot {
@@ -40,9 +41,9 @@ struct BinConstrainedSolution {
 class BinRows {
  public:
   BinRows() = default;
-  BinRows(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& rows);
+  BinRows(const TablesRef& tables, const std::vector<int>& members, const std::vector<int>& rows);
   // Every `stride`-th row of the tables.
-  static BinRows EveryNth(const MatrixXfR& tables, const std::vector<int>& members, int stride);
+  static BinRows EveryNth(const TablesRef& tables, const std::vector<int>& members, int stride);
   // Every row of `tables` over `members`. Where the members are most of the
   // columns (nine tenths or more) the rows are read in place, the other
   // columns weighed by zero: a class of nearly every basis would otherwise be
@@ -50,10 +51,10 @@ class BinRows {
   // every 31st bin) for each material an evaluation fits, and the zero
   // columns cost at most a ninth more per product. In place, `tables` must
   // outlive the result (and its copies); Append first copies the rows.
-  static BinRows AllRows(const MatrixXfR& tables, const std::vector<int>& members);
+  static BinRows AllRows(const TablesRef& tables, const std::vector<int>& members);
 
-  Eigen::Index rows() const { return source_ ? source_->rows() : a_.rows(); }
-  Eigen::Index cols() const { return source_ ? static_cast<Eigen::Index>(members_.size()) : a_.cols(); }
+  Eigen::Index rows() const { return in_place() ? source_rows_ : a_.rows(); }
+  Eigen::Index cols() const { return in_place() ? static_cast<Eigen::Index>(members_.size()) : a_.cols(); }
   bool in_place() const { return source_ != nullptr; }
   Eigen::MatrixXd Times(const Eigen::MatrixXd& w) const;  // A w, for every column of w
   // A(which, :) w: the same products as Times's at those rows.
@@ -63,13 +64,16 @@ class BinRows {
   // over the whole table row), for |A(i, :) d| ≤ norm_i ‖d‖.
   const Eigen::VectorXd& RowNorms() const { return norms_; }
   double RowSum(Eigen::Index i) const;
-  void Append(const MatrixXfR& tables, const std::vector<int>& members, const std::vector<int>& table_rows);
+  void Append(const TablesRef& tables, const std::vector<int>& members, const std::vector<int>& table_rows);
 
  private:
   void AddRowNorms(Eigen::Index from);  // norms_ of rows from `from` on
   MatrixXfR a_;                         // the rows, copied over the members
   Eigen::VectorXd norms_;               // RowNorms
-  const MatrixXfR* source_ = nullptr;   // or, in place: every row of *source_ over members_
+  TablesMap Source() const { return TablesMap(source_, source_rows_, source_cols_, Eigen::OuterStride<>(source_stride_)); }
+  // Or, in place: every row of the tables at source_ over members_.
+  const float* source_ = nullptr;
+  Eigen::Index source_rows_ = 0, source_cols_ = 0, source_stride_ = 0;
   std::vector<int> members_;
 };
 
@@ -108,6 +112,6 @@ bool IsNegativeBin(const float* row, const std::vector<int>& members, const doub
 
 // The bins (rows of `tables`) where the BRDF of weights wJ (members × 3, over
 // columns `members`) is negative in any channel: the whole table, checked.
-std::vector<int> NegativeBins(const MatrixXfR& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ);
+std::vector<int> NegativeBins(const TablesRef& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ);
 
 }  // namespace brdfshot

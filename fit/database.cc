@@ -77,11 +77,11 @@ std::vector<int> SelectMaterials(const std::vector<std::string>& names, const Da
 }
 
 namespace {
-void StoreColumns(BasisDatabase* db, int m, const MerlBrdf& brdf) {
-  for (size_t idx = 0; idx < db->grid.size(); ++idx)
+void StoreColumns(MatrixXfR* B, int m, const MerlBrdf& brdf) {
+  for (size_t idx = 0; idx < brdf.grid().size(); ++idx)
     for (int c = 0; c < 3; ++c) {
       const double v = brdf.Value(c, idx);
-      db->B(idx, 3 * m + c) = v < 0 ? 0.0f : static_cast<float>(v);
+      (*B)(idx, 3 * m + c) = v < 0 ? 0.0f : static_cast<float>(v);
     }
 }
 }  // namespace
@@ -135,9 +135,10 @@ namespace {
 // B is 1.7 GB for the full grid, and the basis images read its rows all over
 // the table: with 2 MB pages the operator's table gathers ran ~25 % faster
 // and filling B faulted 512× fewer pages (util/huge_pages.h).
-void AllocateBasisMatrix(BasisDatabase* db, size_t cols) {
-  db->B.resize(static_cast<Eigen::Index>(db->grid.size()), static_cast<Eigen::Index>(cols));
-  AdviseHugePages(db->B.data(), sizeof(float) * db->B.size());
+MatrixXfR AllocateBasisMatrix(const MerlGrid& grid, size_t cols) {
+  MatrixXfR B(static_cast<Eigen::Index>(grid.size()), static_cast<Eigen::Index>(cols));
+  AdviseHugePages(B.data(), sizeof(float) * B.size());
+  return B;
 }
 
 // A computed database (nbrdf or stand-in): its materials and the files it is made of.
@@ -175,7 +176,7 @@ BasisDatabase ComputeTables(const ComputedSource& src, const MerlGrid& grid, con
     db.materials.push_back(src.names[k]);
     if (!src.families.empty()) db.families.push_back(src.families[k]);
   }
-  AllocateBasisMatrix(&db, 3 * keep.size());
+  MatrixXfR B = AllocateBasisMatrix(db.grid, 3 * keep.size());
   if (src.kind == "nbrdf") {
     db.label = "MERL (NBRDF approximation)";
     const MatrixXfR x = NbrdfInputs(db.grid);
@@ -188,18 +189,20 @@ BasisDatabase ComputeTables(const ComputedSource& src, const MerlGrid& grid, con
     for (int m = 0; m < static_cast<int>(keep.size()); ++m) {
       const MatrixXfR rho = nets[m].Eval(x);
       for (size_t idx = 0; idx < db.grid.size(); ++idx)
-        for (int c = 0; c < 3; ++c) db.B(idx, 3 * m + c) = measurable[idx] ? rho(idx, c) : 0.0f;
+        for (int c = 0; c < 3; ++c) B(idx, 3 * m + c) = measurable[idx] ? rho(idx, c) : 0.0f;
       progress.Step();
     }
+    db.B = BasisTables(std::move(B));
     return db;
   }
   db.label = "stand-in (analytic)";
   Progress progress("sampling stand-in", keep.size(), progress_on);
 #pragma omp parallel for schedule(dynamic, 1)
   for (int m = 0; m < static_cast<int>(keep.size()); ++m) {
-    StoreColumns(&db, m, src.standin[keep[m]].ToMerl(db.grid));
+    StoreColumns(&B, m, src.standin[keep[m]].ToMerl(db.grid));
     progress.Step();
   }
+  db.B = BasisTables(std::move(B));
   return db;
 }
 
@@ -262,10 +265,11 @@ BasisDatabase SelectColumns(BasisDatabase full, const std::vector<int>& keep) {
     if (!full.families.empty()) db.families.push_back(full.families[m]);
     for (int c = 0; c < 3; ++c) cols.push_back(3 * m + c);
   }
-  AllocateBasisMatrix(&db, cols.size());
+  MatrixXfR B = AllocateBasisMatrix(db.grid, cols.size());
 #pragma omp parallel for schedule(static)
-  for (long r = 0; r < static_cast<long>(db.B.rows()); ++r)
-    for (size_t k = 0; k < cols.size(); ++k) db.B(r, k) = full.B(r, cols[k]);
+  for (long r = 0; r < static_cast<long>(B.rows()); ++r)
+    for (size_t k = 0; k < cols.size(); ++k) B(r, k) = full.B(r, cols[k]);
+  db.B = BasisTables(std::move(B));
   return db;
 }
 
@@ -277,19 +281,21 @@ BasisDatabase LoadMerlFiles(const std::string& folder, const DatabaseOptions& op
   for (const auto& f : files) names.push_back(fs::path(f).stem().string());
   const std::vector<int> keep = SelectMaterials(names, opt);
   db.label = "MERL";
+  MatrixXfR B;
   Progress progress("reading MERL", keep.size(), opt.progress);
   for (size_t m = 0; m < keep.size(); ++m) {
     const MerlBrdf brdf = MerlBrdf::Read(files[keep[m]]);
     if (m == 0) {
       db.grid = brdf.grid();
-      AllocateBasisMatrix(&db, 3 * keep.size());
+      B = AllocateBasisMatrix(db.grid, 3 * keep.size());
     } else if (!(brdf.grid() == db.grid)) {
       throw FileError(files[keep[m]], "grid differs from the other MERL files");
     }
     db.materials.push_back(names[keep[m]]);
-    StoreColumns(&db, static_cast<int>(m), brdf);
+    StoreColumns(&B, static_cast<int>(m), brdf);
     progress.Step();
   }
+  db.B = BasisTables(std::move(B));
   return db;
 }
 }  // namespace
@@ -332,7 +338,7 @@ DatabaseGrams LoadDatabaseGrams(const DatabaseOptions& opt) {
   return from_tables(ComputeTables(src, opt.grid, keep, opt.progress));
 }
 
-Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* w, TableMapping mapping) {
+Eigen::MatrixXd GramMatrix(const TablesRef& B, const std::vector<float>* w, TableMapping mapping) {
   const Eigen::Index n = B.cols();
   constexpr Eigen::Index kBlock = 8192;
   const Eigen::Index blocks = (B.rows() + kBlock - 1) / kBlock;

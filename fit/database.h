@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "fit/basis_tables.h"
 #include "fit/merl_brdf.h"
 #include "fit/nbrdf.h"
 
@@ -32,8 +33,9 @@ struct BasisDatabase {
   std::vector<std::string> materials;
   std::vector<std::string> families;  // stand-in only (diffuse/plastic/metal/paint)
   // bins × 3·materials; column 3m + c is channel c of material m, ρ in 1/sr,
-  // 0 where not measured (so it contributes nothing to a render).
-  MatrixXfR B;
+  // 0 where not measured (so it contributes nothing to a render). Read from
+  // the cache, a view of the mapped file (fit/basis_tables.h).
+  BasisTables B;
 
   int num_bases() const { return static_cast<int>(B.cols()); }
   int num_materials() const { return static_cast<int>(materials.size()); }
@@ -80,7 +82,7 @@ std::vector<int> SelectMaterials(const std::vector<std::string>& names, const Da
 // that a specular peak of thousands per steradian does not outweigh the rest
 // of the table.
 enum class TableMapping { kLinear, kLog };
-Eigen::MatrixXd GramMatrix(const MatrixXfR& B, const std::vector<float>* row_weight = nullptr,
+Eigen::MatrixXd GramMatrix(const TablesRef& B, const std::vector<float>* row_weight = nullptr,
                            TableMapping mapping = TableMapping::kLinear);
 
 // cos θ_i cos θ_o per bin (0 where not measurable): the weight of the BRDF metric.

@@ -1,22 +1,23 @@
 #include "fit/database_cache.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstring>
+#include <memory>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/huge_pages.h"
+#include "util/mapped_file.h"
 
 namespace brdfshot {
 
 namespace {
 constexpr char kMagic[8] = {'B', 'S', 'H', 'O', 'T', 'D', 'B', '1'};
-constexpr const char* kFormat = "brdfshot-database-cache-1";
+constexpr const char* kFormat = "brdfshot-database-cache-2";
+// B starts at a multiple of this in the file (the header is padded with
+// spaces), so that a mapping of the file holds B at page alignment.
+constexpr uint64_t kTableAlignment = 4096;
 constexpr size_t kBlockRows = 16384;
 
 std::string Hex(uint64_t v) {
@@ -25,31 +26,23 @@ std::string Hex(uint64_t v) {
   return buf;
 }
 
-// A file read by offset from several threads at once (pread has no shared position).
-class PositionalFile {
+// The cache file mapped into memory (util/mapped_file.h): reads copy out of
+// the page cache, and B with every column kept is not copied at all.
+class CacheFile {
  public:
-  explicit PositionalFile(const std::string& path) : path_(path), fd_(::open(path.c_str(), O_RDONLY)) {
-    if (fd_ < 0) throw FileError(path, std::string("cannot open: ") + std::strerror(errno));
+  explicit CacheFile(const std::string& path) : path_(path), map_(std::make_shared<const MappedFile>(path)) {}
+  uint64_t Size() const { return map_->size(); }
+  // The bytes [offset, offset + bytes); FileError if the file ends before.
+  const unsigned char* At(uint64_t offset, uint64_t bytes) const {
+    if (offset > Size() || bytes > Size() - offset) throw FileError(path_, "truncated");
+    return map_->data() + offset;
   }
-  ~PositionalFile() { ::close(fd_); }
-  PositionalFile(const PositionalFile&) = delete;
-  PositionalFile& operator=(const PositionalFile&) = delete;
-  uint64_t Size() const {
-    const off_t end = ::lseek(fd_, 0, SEEK_END);
-    return end < 0 ? 0 : static_cast<uint64_t>(end);
-  }
-  void Read(void* dst, size_t bytes, uint64_t offset) const {
-    char* p = static_cast<char*>(dst);
-    while (bytes > 0) {
-      const ssize_t got = ::pread(fd_, p, bytes, static_cast<off_t>(offset));
-      if (got <= 0) throw FileError(path_, "truncated");
-      p += got, bytes -= static_cast<size_t>(got), offset += static_cast<uint64_t>(got);
-    }
-  }
+  void Read(void* dst, size_t bytes, uint64_t offset) const { std::memcpy(dst, At(offset, bytes), bytes); }
+  const std::shared_ptr<const MappedFile>& mapping() const { return map_; }
 
  private:
   std::string path_;
-  int fd_;
+  std::shared_ptr<const MappedFile> map_;
 };
 
 struct Layout {
@@ -63,7 +56,7 @@ struct Layout {
 
 // Reads and checks everything but B's blocks: magic, header, the id it names,
 // the file's length and the header's checksum.
-Layout ReadLayout(const PositionalFile& f, const std::string& path, const CachedDatabaseId& id,
+Layout ReadLayout(const CacheFile& f, const std::string& path, const CachedDatabaseId& id,
                   std::vector<uint64_t>* checksums) {
   const uint64_t size = f.Size();
   char magic[8];
@@ -117,6 +110,25 @@ void SelectNames(const nlohmann::json& header, const std::vector<int>& keep, con
     materials->push_back(names[m]);
     if (!fams.empty()) families->push_back(fams.at(m));
   }
+}
+
+// Every column of B, as a view of the mapped file; each block is checked
+// against its checksum first (B is read once, from the page cache where the
+// file is there already).
+BasisTables MapTables(const CacheFile& f, const std::string& path, const Layout& l,
+                      const std::vector<uint64_t>& sums) {
+  const auto* b = reinterpret_cast<const float*>(f.At(l.b_offset(), l.rows * l.cols * sizeof(float)));
+  bool damaged = false;
+#pragma omp parallel for schedule(dynamic, 2)
+  for (long k = 0; k < static_cast<long>(l.blocks); ++k) {
+    const uint64_t r0 = k * kBlockRows, n = std::min<uint64_t>(kBlockRows, l.rows - r0);
+    if (Checksum64(b + r0 * l.cols, n * l.cols * sizeof(float)) != sums[2 + k]) {
+#pragma omp atomic write
+      damaged = true;
+    }
+  }
+  if (damaged) throw FileError(path, "table checksum mismatch (damaged)");
+  return BasisTables(f.mapping(), b, static_cast<Eigen::Index>(l.rows), static_cast<Eigen::Index>(l.cols));
 }
 
 std::vector<int> Columns(const std::vector<int>& keep) {
@@ -175,7 +187,10 @@ void WriteDatabaseCache(const std::string& path, const CachedDatabaseId& id, con
                       {"block_rows", kBlockRows},
                       {"materials", db.materials}};
   if (!db.families.empty()) h["families"] = db.families;
-  const std::string text = h.dump();
+  std::string text = h.dump();
+  const uint64_t gram_bytes = 2 * cols * cols * sizeof(double);
+  const uint64_t b_offset = 16 + text.size() + gram_bytes;
+  text.append((kTableAlignment - b_offset % kTableAlignment) % kTableAlignment, ' ');
   const uint64_t header_bytes = text.size();
   const uint64_t blocks = (rows + kBlockRows - 1) / kBlockRows;
   std::vector<uint64_t> sums(2 + blocks);
@@ -200,7 +215,7 @@ void WriteDatabaseCache(const std::string& path, const CachedDatabaseId& id, con
 }
 
 BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId& id, const std::vector<int>& keep) {
-  const PositionalFile f(path);
+  const CacheFile f(path);
   std::vector<uint64_t> sums;
   const Layout l = ReadLayout(f, path, id, &sums);
   BasisDatabase db;
@@ -211,8 +226,12 @@ BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId&
   const std::vector<int> cols = Columns(keep);
   bool all = cols.size() == l.cols;  // every column, in the file's order
   for (size_t k = 0; all && k < cols.size(); ++k) all = cols[k] == static_cast<int>(k);
-  db.B.resize(static_cast<Eigen::Index>(l.rows), static_cast<Eigen::Index>(cols.size()));
-  AdviseHugePages(db.B.data(), sizeof(float) * db.B.size());
+  if (all && l.b_offset() % alignof(float) == 0) {
+    db.B = MapTables(f, path, l, sums);
+    return db;
+  }
+  MatrixXfR B(static_cast<Eigen::Index>(l.rows), static_cast<Eigen::Index>(cols.size()));
+  AdviseHugePages(B.data(), sizeof(float) * B.size());
   bool damaged = false;
 #pragma omp parallel
   {
@@ -222,7 +241,7 @@ BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId&
       const uint64_t r0 = b * kBlockRows, n = std::min<uint64_t>(kBlockRows, l.rows - r0);
       // With every column kept the block lands in B directly; else it is read
       // whole (the checksum covers whole blocks) and its kept columns copied.
-      float* dst = all ? db.B.data() + r0 * l.cols : buffer.data();
+      float* dst = all ? B.data() + r0 * l.cols : buffer.data();
       const size_t bytes = n * l.cols * sizeof(float);
       bool ok = true;
       try {  // no exception may leave an OpenMP loop
@@ -237,16 +256,17 @@ BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId&
       }
       if (!all)
         for (uint64_t r = 0; r < n; ++r)
-          for (size_t k = 0; k < cols.size(); ++k) db.B(r0 + r, k) = buffer[r * l.cols + cols[k]];
+          for (size_t k = 0; k < cols.size(); ++k) B(r0 + r, k) = buffer[r * l.cols + cols[k]];
     }
   }
   if (damaged) throw FileError(path, "table checksum mismatch (damaged)");
+  db.B = BasisTables(std::move(B));
   return db;
 }
 
 DatabaseGrams ReadDatabaseCacheGrams(const std::string& path, const CachedDatabaseId& id,
                                      const std::vector<int>& keep) {
-  const PositionalFile f(path);
+  const CacheFile f(path);
   std::vector<uint64_t> sums;
   const Layout l = ReadLayout(f, path, id, &sums);
   std::vector<double> grams(2 * l.cols * l.cols);

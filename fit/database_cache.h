@@ -4,7 +4,8 @@
 // would otherwise repeat. The cache keeps the full database — every material
 // of the source, in the source's order — in one file:
 //
-//   "BSHOTDB1" | uint64 header bytes | JSON header
+//   "BSHOTDB1" | uint64 header bytes | JSON header, padded with spaces so
+//   that B starts at a multiple of 4096 bytes
 //   | float64 BᵀB (n × n) | float64 Bᵀdiag(cos²)B (n × n)
 //   | float32 B (bins × n, row-major, as BasisDatabase::B)
 //   | uint64 checksums: header, Gram section, then one per block of B rows
@@ -43,8 +44,9 @@ void WriteDatabaseCache(const std::string& path, const CachedDatabaseId& id, con
                         const Eigen::MatrixXd& gram, const Eigen::MatrixXd& gram_cos);
 
 // Reads the columns of materials `keep` (indices into the cached list) of B.
-// Every block read is checked. FileError naming `path` if it is not a sound
-// cache of `id`.
+// Every block read is checked. With every material kept, in the file's order,
+// B is a view of the file mapped into memory (BasisTables::mapped()), not a
+// copy. FileError naming `path` if it is not a sound cache of `id`.
 BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId& id, const std::vector<int>& keep);
 
 // Only the header and the Gram matrices, restricted to `keep` (cheap: B is not

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -68,11 +69,16 @@ TEST(DatabaseCache, RoundTripsExactlyAndSelectsColumns) {
   EXPECT_EQ(back.label, db.label);
   ASSERT_EQ(back.B.rows(), db.B.rows());
   EXPECT_EQ(std::memcmp(back.B.data(), db.B.data(), sizeof(float) * db.B.size()), 0) << "not bit-exact";
+  // Every material in the file's order: a view of the mapped file, B at a
+  // page boundary of it (the padded header); any other selection a copy.
+  EXPECT_TRUE(back.B.mapped());
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(back.B.data()) % 4096, 0u);
 
   std::vector<int> reversed(all.rbegin(), all.rend());  // every material, another order
   const BasisDatabase back_reversed = ReadDatabaseCache(path, id, reversed);
   EXPECT_EQ(back_reversed.materials.front(), db.materials.back());
   EXPECT_TRUE(back_reversed.B.col(0) == db.B.col(45));
+  EXPECT_FALSE(back_reversed.B.mapped());
 
   const BasisDatabase some = ReadDatabaseCache(path, id, {5, 2});
   ASSERT_EQ(some.B.cols(), 6);
@@ -102,6 +108,8 @@ TEST(DatabaseCache, DamagedTruncatedOrForeignFilesAreRefusedNamingTheFile) {
   FlipByte(damaged, size - 8 * 10 - 1000);  // inside B's last block
   std::string e = ErrorOf([&] { ReadDatabaseCache(damaged.string(), id, {0, 1}); });
   EXPECT_NE(e.find(damaged.string()), std::string::npos) << e;
+  EXPECT_NE(e.find("checksum"), std::string::npos) << e;
+  e = ErrorOf([&] { ReadDatabaseCache(damaged.string(), id, {1}); });  // a copy of some columns
   EXPECT_NE(e.find("checksum"), std::string::npos) << e;
 
   const fs::path shortfile = dir.path / "short.bsdb";

@@ -77,7 +77,7 @@ std::vector<Eigen::MatrixXd> ClassMetrics(const Eigen::MatrixXd& gram, const std
   return out;
 }
 
-Eigen::MatrixXd SampledCosineGram(const MatrixXfR& tables, const MerlGrid& grid, const std::vector<int>& members,
+Eigen::MatrixXd SampledCosineGram(const TablesRef& tables, const MerlGrid& grid, const std::vector<int>& members,
                                   int stride) {
   BRDFSHOT_CHECK(stride >= 1 && !members.empty());
   const std::vector<float> weight = CosineWeights(grid);
@@ -101,7 +101,7 @@ std::vector<Vec3> ConfidenceSuns() {
   return out;
 }
 
-Eigen::MatrixXd DirectionalImageGram(const MatrixXfR& tables, const MerlGrid& grid, const std::vector<Vec3>& suns,
+Eigen::MatrixXd DirectionalImageGram(const TablesRef& tables, const MerlGrid& grid, const std::vector<Vec3>& suns,
                                      int sphere_pixels) {
   BRDFSHOT_CHECK(sphere_pixels >= 2 && !suns.empty());
   BRDFSHOT_CHECK(static_cast<size_t>(tables.rows()) == grid.size(), "tables and grid differ in bins");

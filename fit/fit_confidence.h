@@ -25,6 +25,7 @@
 #include <functional>
 #include <vector>
 
+#include "fit/basis_tables.h"
 #include "fit/lambda_choice.h"
 #include "fit/merl_grid.h"
 #include "fit/solver.h"
@@ -48,7 +49,7 @@ std::vector<Eigen::MatrixXd> ClassMetrics(const Eigen::MatrixXd& gram, const std
 // `grid`): the cosine-weighted BRDF Gram matrix of the bases `members`
 // estimated from a sample of the tables (bins × bases), which `fit` holds —
 // the full matrix over 1.5 M bins would cost seconds per photo.
-Eigen::MatrixXd SampledCosineGram(const MatrixXfR& tables, const MerlGrid& grid, const std::vector<int>& members,
+Eigen::MatrixXd SampledCosineGram(const TablesRef& tables, const MerlGrid& grid, const std::vector<int>& members,
                                   int stride);
 
 // The confidence of a fit made by `choice`: per part, PriorSensitivity in
@@ -77,7 +78,7 @@ std::vector<Vec3> ConfidenceSuns();
 // integral is a sum over a `sphere_pixels`² raster of the disk, each pixel
 // weighing its area, so a finer raster converges to the same matrix. Double
 // precision: thousands of rank-one terms accumulate into it.
-Eigen::MatrixXd DirectionalImageGram(const MatrixXfR& tables, const MerlGrid& grid, const std::vector<Vec3>& suns,
+Eigen::MatrixXd DirectionalImageGram(const TablesRef& tables, const MerlGrid& grid, const std::vector<Vec3>& suns,
                                      int sphere_pixels = 32);
 
 }  // namespace brdfshot

@@ -134,7 +134,7 @@ Eigen::MatrixXd MaterialImage(const std::array<MatrixXfR, 3>& images, int m) {
   return y;
 }
 
-MatrixXfR SampleBins(const MatrixXfR& B, int stride, int offset) {
+MatrixXfR SampleBins(const TablesRef& B, int stride, int offset) {
   BRDFSHOT_CHECK(stride >= 1 && offset >= 0);
   const Eigen::Index rows = B.rows() > offset ? (B.rows() - offset + stride - 1) / stride : 0;
   MatrixXfR out(rows, B.cols());

@@ -104,7 +104,7 @@ struct LooInputs {
 Eigen::MatrixXd MaterialImage(const std::array<MatrixXfR, 3>& images, int m);
 
 // Rows offset, offset + stride, … of the tables `B` (bins × bases).
-MatrixXfR SampleBins(const MatrixXfR& B, int stride, int offset = 0);
+MatrixXfR SampleBins(const TablesRef& B, int stride, int offset = 0);
 
 // The share of (bin, channel) pairs where the BRDF of weights `w` (n × 3) is
 // negative (kNegativeBinTolerance) over the sampled bins; -1 when `bins` is empty.

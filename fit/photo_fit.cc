@@ -37,7 +37,7 @@ std::string ConstraintName(WeightConstraint::Kind kind) {
 }
 
 PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen::MatrixXd& y,
-                  const PhotoFitOptions& opt, const MatrixXfR* tables, const std::vector<int>* folds_given) {
+                  const PhotoFitOptions& opt, const BasisTables* tables, const std::vector<int>* folds_given) {
   BRDFSHOT_CHECK(static_cast<size_t>(y.rows()) == basis.geometry.size() && y.cols() == 3);
   BRDFSHOT_CHECK(model.label.size() == static_cast<size_t>(basis.Y[0].cols()));
   PhotoFit out;
@@ -421,7 +421,7 @@ MerlBrdf LambertGgxBrdf(const FitRecord& record) {
   chosen.alphas = {g.alpha};
   BasisDatabase lobes;
   lobes.grid = record.grid;
-  lobes.B = chosen.Tables(record.grid);
+  lobes.B = BasisTables(chosen.Tables(record.grid));
   const int r = g.alpha_index;
   return CombineBases(lobes, g.weights(std::vector<int>{0, 1 + 2 * r, 2 + 2 * r}, Eigen::all));
 }

@@ -74,7 +74,7 @@ void CheckModelMatchesBases(const ClassModel& model, const std::string& model_so
 // `fold_of_pixel`: the cross-validation wedges of every pixel (default: the
 // wedges of basis.geometry, one sphere; JointPhotos gives each photo its own).
 PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen::MatrixXd& y,
-                  const PhotoFitOptions& opt, const MatrixXfR* tables = nullptr,
+                  const PhotoFitOptions& opt, const BasisTables* tables = nullptr,
                   const std::vector<int>* fold_of_pixel = nullptr);
 
 // "none", "non-negative weights", "non-negative bins" (fit.json's weights_constraint).

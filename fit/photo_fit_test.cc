@@ -17,7 +17,7 @@ namespace {
 struct Scene {
   BasisImages basis;
   ClassModel model;
-  MatrixXfR tables;  // 400 bins × 12 bases, non-negative like every database's
+  BasisTables tables;  // 400 bins × 12 bases, non-negative like every database's
 };
 Scene MakeScene() {
   Scene s;
@@ -34,7 +34,7 @@ Scene MakeScene() {
             a + bx * g.normal[p].x + by * g.normal[p].y + q * g.normal[p].z * g.normal[p].y + 0.05 * u(rng));
     }
   }
-  s.tables = MatrixXfR::NullaryExpr(400, 12, [&]() { return static_cast<float>(u(rng) - 0.1); });
+  s.tables = BasisTables(MatrixXfR::NullaryExpr(400, 12, [&]() { return static_cast<float>(u(rng) - 0.1); }));
   s.model.mix = Eigen::VectorXd::Constant(2, 0.5);
   s.model.label = {0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1};
   return s;

@@ -9,7 +9,7 @@
 
 namespace brdfshot {
 
-TableCheck::TableCheck(const MatrixXfR& tables, int block_rows) : tables_(tables), block_rows_(block_rows) {
+TableCheck::TableCheck(const TablesRef& tables, int block_rows) : tables_(MapOf(tables)), block_rows_(block_rows) {
   BRDFSHOT_CHECK(block_rows >= 1, "TableCheck: blocks need at least one row");
   const Eigen::Index rows = tables.rows(), cols = tables.cols();
   const Eigen::Index blocks = (rows + block_rows - 1) / block_rows;
@@ -87,10 +87,12 @@ std::vector<int> TableCheck::NegativeBins(const std::vector<int>& members, const
 }
 
 int KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
-                           double lambda, const MatrixXfR& tables, const TableCheck* check, BinRows* bins,
+                           double lambda, const TablesRef& tables, const TableCheck* check, BinRows* bins,
                            ClassSolution* s, int max_passes) {
   BRDFSHOT_CHECK(bins && s, "KeepNonNegativeOnTable: no bins or solution");
-  BRDFSHOT_CHECK(!check || &check->tables() == &tables, "KeepNonNegativeOnTable: the check is of other tables");
+  BRDFSHOT_CHECK(!check || (check->tables().data() == tables.data() && check->tables().rows() == tables.rows() &&
+                             check->tables().cols() == tables.cols()),
+                 "KeepNonNegativeOnTable: the check is of other tables");
   WeightConstraint constraint;
   constraint.kind = WeightConstraint::Kind::kBins;
   constraint.bins = bins;

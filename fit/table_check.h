@@ -30,7 +30,7 @@ class TableCheck {
  public:
   // Summarises `tables` (bins × bases) in blocks of `block_rows` rows: one
   // pass over the tables. `tables` must outlive the check.
-  explicit TableCheck(const MatrixXfR& tables, int block_rows = kDefaultBlockRows);
+  explicit TableCheck(const TablesRef& tables, int block_rows = kDefaultBlockRows);
 
   // The bins where the BRDF of weights wJ (members × 3, over columns
   // `members` of the tables) is negative in any channel, by the rule of
@@ -39,7 +39,7 @@ class TableCheck {
   std::vector<int> NegativeBins(const std::vector<int>& members, const Eigen::MatrixXd& wJ,
                                 double* cleared_share = nullptr) const;
 
-  const MatrixXfR& tables() const { return tables_; }
+  const TablesMap& tables() const { return tables_; }
   Eigen::Index blocks() const { return centre_.rows(); }
   int block_rows() const { return block_rows_; }
 
@@ -49,7 +49,7 @@ class TableCheck {
   static constexpr int kDefaultBlockRows = 128;
 
  private:
-  const MatrixXfR& tables_;
+  const TablesMap tables_;
   int block_rows_;
   MatrixXfR centre_;  // blocks × bases: the centre of the block's range
   MatrixXfR spread_;  // blocks × bases: max over the block's rows of |b − centre|, rounded up
@@ -64,7 +64,7 @@ class TableCheck {
 // second pass) and a summary is built only for a second. Returns the number
 // of bins added.
 int KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
-                           double lambda, const MatrixXfR& tables, const TableCheck* check, BinRows* bins,
+                           double lambda, const TablesRef& tables, const TableCheck* check, BinRows* bins,
                            ClassSolution* s, int max_passes = 4);
 
 }  // namespace brdfshot

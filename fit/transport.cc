@@ -324,12 +324,12 @@ std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyImpl(const std::ve
   return Ys;
 }
 
-std::array<MatrixXfR, 3> TransportOperator::Apply(const MatrixXfR& B) const {
+std::array<MatrixXfR, 3> TransportOperator::Apply(const TablesRef& B) const {
   return std::move(ApplyToEach({this}, B).front());
 }
 
 std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyToEach(const std::vector<const TransportOperator*>& ops,
-                                                                      const MatrixXfR& B) {
+                                                                      const TablesRef& B) {
   BRDFSHOT_CHECK(!ops.empty());
   const MerlGrid& grid = ops.front()->grid_;
   BRDFSHOT_CHECK(static_cast<size_t>(B.rows()) == grid.size(),
@@ -356,7 +356,7 @@ std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyToEach(const std::
       const size_t idx = corners[a].idx;
       for (; a < corners.size() && corners[a].idx == idx; ++a) w += corners[a].w;
       const float wf = static_cast<float>(w);
-      const float* b = B.data() + idx * n;
+      const float* b = B.row(static_cast<Eigen::Index>(idx)).data();
       for (Eigen::Index j = 0; j < n; ++j) out[j] += wf * b[j];
     }
   });

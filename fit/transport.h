@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "calib/latlong_probe.h"
+#include "fit/basis_tables.h"
 #include "fit/merl_brdf.h"
 #include "fit/nbrdf.h"
 #include "normals/sphere_geometry.h"
@@ -91,14 +92,14 @@ class TransportOperator {
   const std::vector<DirectionalLight>& lights() const { return lights_; }
 
   // Y_c = T_c B for c = R, G, B light channels: each pixels × B.cols().
-  std::array<MatrixXfR, 3> Apply(const MatrixXfR& B) const;
+  std::array<MatrixXfR, 3> Apply(const TablesRef& B) const;
   // Apply for each operator, reading the table once for all of them: its
   // averages over the half-vector cells (M, above) depend on neither the
   // lighting nor the pixels, only on the grid and the sampling, which the
   // operators must share (SharesTableReadsWith, checked). The result is
   // each operator's Apply(B), in order.
   static std::vector<std::array<MatrixXfR, 3>> ApplyToEach(const std::vector<const TransportOperator*>& ops,
-                                                           const MatrixXfR& B);
+                                                           const TablesRef& B);
   // Same grid, half-vector cells and θ_o levels: what ApplyToEach needs.
   bool SharesTableReadsWith(const TransportOperator& other) const;
   // Image of one tabulated BRDF (channel c under light channel c): pixels × 3.

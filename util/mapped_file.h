@@ -1,0 +1,42 @@
+// A whole file mapped read-only into memory.
+//
+// Why: the database cache of MERL's full grid is 1.75 GB. Read into a fresh
+// buffer, every page of that buffer is zeroed by the kernel before the copy
+// lands in it, and on a virtual machine that zeroing took most of a `fit` or
+// `basis` command's wall time (docs/benchmarks.md). A mapping shares the page
+// cache's copy of the file instead: nothing is zeroed or copied, and commands
+// run at once on one machine share one copy in memory.
+//
+// The mapping is private and read-only, and every page is mapped at once
+// (MAP_POPULATE): the files mapped here are read whole (their checksums), and
+// one pass over the page cache is cheaper than a fault per page. brdfshot replaces its files by rename
+// (util/atomic_file.h), which leaves a mapped file's old contents in place;
+// a program that truncates a mapped file under it would make reads past the
+// new end fault, as with any mapping.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace brdfshot {
+
+class MappedFile {
+ public:
+  // Maps all of `path`; FileError naming it if it cannot be opened or mapped.
+  // An empty file maps to data() == nullptr, size() == 0.
+  explicit MappedFile(const std::string& path);
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+
+  const unsigned char* data() const { return data_; }
+  std::size_t size() const { return size_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  const unsigned char* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+}  // namespace brdfshot
