@@ -28,9 +28,12 @@ std::string Hex(uint64_t v) {
 
 // The cache file mapped into memory (util/mapped_file.h): reads copy out of
 // the page cache, and B with every column kept is not copied at all.
+// `whole`: the file is about to be read whole (B), so every page is mapped at
+// once; the Gram matrices alone fault in only their pages.
 class CacheFile {
  public:
-  explicit CacheFile(const std::string& path) : path_(path), map_(std::make_shared<const MappedFile>(path)) {}
+  CacheFile(const std::string& path, bool whole)
+      : path_(path), map_(std::make_shared<const MappedFile>(path, whole)) {}
   uint64_t Size() const { return map_->size(); }
   // The bytes [offset, offset + bytes); FileError if the file ends before.
   const unsigned char* At(uint64_t offset, uint64_t bytes) const {
@@ -215,7 +218,7 @@ void WriteDatabaseCache(const std::string& path, const CachedDatabaseId& id, con
 }
 
 BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId& id, const std::vector<int>& keep) {
-  const CacheFile f(path);
+  const CacheFile f(path, true);
   std::vector<uint64_t> sums;
   const Layout l = ReadLayout(f, path, id, &sums);
   BasisDatabase db;
@@ -266,7 +269,7 @@ BasisDatabase ReadDatabaseCache(const std::string& path, const CachedDatabaseId&
 
 DatabaseGrams ReadDatabaseCacheGrams(const std::string& path, const CachedDatabaseId& id,
                                      const std::vector<int>& keep) {
-  const CacheFile f(path);
+  const CacheFile f(path, false);
   std::vector<uint64_t> sums;
   const Layout l = ReadLayout(f, path, id, &sums);
   std::vector<double> grams(2 * l.cols * l.cols);

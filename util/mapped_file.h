@@ -7,9 +7,10 @@
 // cache's copy of the file instead: nothing is zeroed or copied, and commands
 // run at once on one machine share one copy in memory.
 //
-// The mapping is private and read-only, and every page is mapped at once
-// (MAP_POPULATE): the files mapped here are read whole (their checksums), and
-// one pass over the page cache is cheaper than a fault per page. brdfshot replaces its files by rename
+// The mapping is private and read-only. `populate` maps every page at once
+// (MAP_POPULATE, which reads the file in if it is not in the page cache): for
+// a file that is read whole, one pass is cheaper than a fault per page; a
+// reader of a few parts leaves it off and faults in only those. brdfshot replaces its files by rename
 // (util/atomic_file.h), which leaves a mapped file's old contents in place;
 // a program that truncates a mapped file under it would make reads past the
 // new end fault, as with any mapping.
@@ -24,7 +25,7 @@ class MappedFile {
  public:
   // Maps all of `path`; FileError naming it if it cannot be opened or mapped.
   // An empty file maps to data() == nullptr, size() == 0.
-  explicit MappedFile(const std::string& path);
+  explicit MappedFile(const std::string& path, bool populate = false);
   ~MappedFile();
   MappedFile(const MappedFile&) = delete;
   MappedFile& operator=(const MappedFile&) = delete;

@@ -21,9 +21,11 @@ TEST(MappedFile, HoldsTheFilesBytes) {
   std::string bytes(70000, '\0');
   for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>((i * 131) % 251);
   std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  const MappedFile m(path);
-  ASSERT_EQ(m.size(), bytes.size());
-  EXPECT_EQ(std::string(reinterpret_cast<const char*>(m.data()), m.size()), bytes);
+  for (bool populate : {false, true}) {
+    const MappedFile m(path, populate);
+    ASSERT_EQ(m.size(), bytes.size());
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(m.data()), m.size()), bytes) << "populate " << populate;
+  }
   std::filesystem::remove(path);
 }
 
