@@ -7,6 +7,9 @@
 // cache's copy of the file instead: nothing is zeroed or copied, and commands
 // run at once on one machine share one copy in memory.
 //
+// POSIX mmap directly: Boost.Iostreams' mapped_file does the same, but would add
+// a library to the build for these few lines.
+//
 // The mapping is private and read-only. `populate` maps every page at once
 // (MAP_POPULATE, which reads the file in if it is not in the page cache): for
 // a file that is read whole, one pass is cheaper than a fault per page; a
