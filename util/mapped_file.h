@@ -2,7 +2,7 @@
 //
 // Why: the database cache of MERL's full grid is 1.75 GB. Read into a fresh
 // buffer, every page of that buffer is zeroed by the kernel before the copy
-// lands in it, and on a virtual machine that zeroing took most of a `fit` or
+// lands in it, and on a virtual machine that zeroing is most of a `fit` or
 // `basis` command's wall time (docs/benchmarks.md). A mapping shares the page
 // cache's copy of the file instead: nothing is zeroed or copied, and commands
 // run at once on one machine share one copy in memory.
