@@ -143,11 +143,20 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     operators.push_back(TransportOperator::Build(geometry, probe, base.grid, opt.quality));
   std::vector<const TransportOperator*> ops;
   for (const TransportOperator& t : operators) ops.push_back(&t);
-  // Every scene at once: the table reads are the same for all of them.
-  const std::vector<std::array<MatrixXfR, 3>> Ys = TransportOperator::ApplyToEach(ops, base.B);
-  std::vector<std::array<MatrixXfR, 3>> Yts, lobes;
-  if (ood) Yts = TransportOperator::ApplyToEach(ops, targets.B);
-  if (opt.lambert_ggx) lobes = TransportOperator::ApplyToEach(ops, in.lobes.Tables(base.grid));
+  // Every scene and every table at once: the table reads are the same for
+  // every scene, and each scene's lighting the same for every table.
+  std::vector<std::array<MatrixXfR, 3>> Ys, Yts, lobes;
+  {
+    const MatrixXfR lobe_tables = opt.lambert_ggx ? in.lobes.Tables(base.grid) : MatrixXfR();
+    std::vector<TablesMap> tables = {MapOf(base.B)};
+    if (ood) tables.push_back(MapOf(targets.B));
+    if (opt.lambert_ggx) tables.push_back(MapOf(lobe_tables));
+    for (auto& parts : TransportOperator::ApplyAll(ops, tables)) {
+      Ys.push_back(std::move(parts[0]));
+      if (ood) Yts.push_back(std::move(parts[1]));
+      if (opt.lambert_ggx) lobes.push_back(std::move(parts.back()));
+    }
+  }
   if (opt.progress)
     std::fprintf(stderr, "basis images: %zu scenes, %zu pixels x %d bases, %d theta_o levels, %.2f s\n", scenes.size(),
                  geometry.size(), base.num_bases(), operators.front().levels(), bw.Seconds());

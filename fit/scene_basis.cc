@@ -99,9 +99,16 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
   }
   const TransportOperator t = TransportOperator::Build(b.geometry, probe, db.grid, quality);
   r.seconds_operator = sw.Seconds() - r.seconds_database - r.seconds_search;
-  b.Y = t.Apply(db.B);
   const LambertGgxLobes lobes;
-  if (o.lobes) b.lobes = t.Apply(lobes.Tables(db.grid));
+  if (o.lobes) {
+    // One pass for both: the lighting per sample is the same for every table.
+    const MatrixXfR lobe_tables = lobes.Tables(db.grid);
+    auto images = TransportOperator::ApplyAll({&t}, {MapOf(db.B), MapOf(lobe_tables)}).front();
+    b.Y = std::move(images[0]);
+    b.lobes = std::move(images[1]);
+  } else {
+    b.Y = t.Apply(db.B);
+  }
   r.seconds_apply = sw.Seconds() - r.seconds_database - r.seconds_search - r.seconds_operator;
   b.header = BasisImagesHeader(probe, b.geometry, quality.Describe(), db, names);
   if (o.lobes) b.header["lobes"] = lobes.ToJson();

@@ -134,21 +134,27 @@ bool TransportOperator::SharesTableReadsWith(const TransportOperator& o) const {
 }
 
 template <typename RowFn>
-std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyImpl(const std::vector<const TransportOperator*>& ops,
-                                                                   Eigen::Index n, RowFn row) {
-  BRDFSHOT_CHECK(!ops.empty());
+std::vector<std::vector<std::array<MatrixXfR, 3>>> TransportOperator::ApplyImpl(
+    const std::vector<const TransportOperator*>& ops, const std::vector<Eigen::Index>& widths, RowFn row) {
+  BRDFSHOT_CHECK(!ops.empty() && !widths.empty());
   const TransportOperator& t0 = *ops.front();
   for (const TransportOperator* t : ops)
     BRDFSHOT_CHECK(t->SharesTableReadsWith(t0), "operators applied together must share grid and table sampling");
   const long n_ops = static_cast<long>(ops.size());
+  const size_t n_parts = widths.size();
+  // Part t's columns start at offset[t] of the row functor's output.
+  std::vector<Eigen::Index> offset(n_parts + 1, 0);
+  for (size_t t = 0; t < n_parts; ++t) offset[t + 1] = offset[t] + widths[t];
+  const Eigen::Index n = offset.back();
   // Y is hundreds of MB: huge pages, and first touched by the threads in
   // parallel below (see util/huge_pages.h for what 4 KB faults cost).
-  std::vector<std::array<MatrixXfR, 3>> Ys(ops.size());
+  std::vector<std::vector<std::array<MatrixXfR, 3>>> Ys(ops.size(), std::vector<std::array<MatrixXfR, 3>>(n_parts));
   for (size_t o = 0; o < ops.size(); ++o)
-    for (auto& y : Ys[o]) {
-      y.resize(ops[o]->pixels(), n);
-      AdviseHugePages(y.data(), sizeof(float) * y.size());
-    }
+    for (size_t t = 0; t < n_parts; ++t)
+      for (auto& y : Ys[o][t]) {
+        y.resize(ops[o]->pixels(), widths[t]);
+        AdviseHugePages(y.data(), sizeof(float) * y.size());
+      }
   const RenderQuality& quality = t0.quality_;
   const std::vector<Sample>& samples = t0.samples_;
   const int n_levels = t0.n_levels_;
@@ -175,11 +181,12 @@ std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyImpl(const std::ve
     // Per-thread products, grown as needed: a sub-level's A, M and A·M live
     // only for one iteration, and reallocating them there costs page faults.
     std::vector<float> a_buf, m_buf, am_buf;
-    for (auto& Y : Ys)
-      for (auto& y : Y) {
+    for (auto& parts : Ys)
+      for (auto& Y : parts)
+        for (auto& y : Y) {
 #pragma omp for schedule(static)
-        for (Eigen::Index p = 0; p < y.rows(); ++p) y.row(p).setZero();
-      }
+          for (Eigen::Index p = 0; p < y.rows(); ++p) y.row(p).setZero();
+        }
     for (int l0 = 0; l0 < n_levels - 1; l0 += kChunk) {
       const int l1 = std::min(n_levels - 1, l0 + kChunk);  // levels l0..l1 inclusive
       const int first_new = l0 == 0 ? 0 : 1;
@@ -229,7 +236,7 @@ std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyImpl(const std::ve
 #pragma omp for schedule(dynamic, 1)
       for (long q = 0; q < n_ops * n_j; ++q) {
         const TransportOperator& t = *ops[q / n_j];
-        std::array<MatrixXfR, 3>& Y = Ys[q / n_j];
+        std::vector<std::array<MatrixXfR, 3>>& Y = Ys[q / n_j];
         const int j = j_begin + static_cast<int>(q % n_j);
         const std::vector<uint32_t>& px = t.sublevel_pixels_[j];
         if (px.empty()) continue;
@@ -293,15 +300,17 @@ std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyImpl(const std::ve
           }
         }
         AM.noalias() = A * Mj;
-        for (Eigen::Index i = 0; i < P; ++i)
-          for (int c = 0; c < 3; ++c) Y[c].row(px[i]) = AM.row(c * P + i);
+        for (size_t part = 0; part < n_parts; ++part)
+          for (Eigen::Index i = 0; i < P; ++i)
+            for (int c = 0; c < 3; ++c)
+              Y[part][c].row(px[i]) = AM.row(c * P + i).segment(offset[part], widths[part]);
       }
     }
     // Suns: exact per pixel, the table read at the pixel's own (ω_i, ω_o).
     for (long o = 0; o < n_ops; ++o) {
       const TransportOperator& t = *ops[o];
       if (t.lights_.empty()) continue;
-      std::array<MatrixXfR, 3>& Y = Ys[o];
+      std::vector<std::array<MatrixXfR, 3>>& Y = Ys[o];
 #pragma omp for schedule(dynamic, 16)
       for (long p = 0; p < static_cast<long>(t.pixels()); ++p) {
         const Frame f = Frame::FromZX(t.normal_[p], t.view_[p]);
@@ -314,8 +323,11 @@ std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyImpl(const std::ve
           row_local(points, tmp.data());
           for (int c = 0; c < 3; ++c) {
             const float w = static_cast<float>(wi.z * l.power[c]);
-            float* y = Y[c].row(p).data();
-            for (Eigen::Index j = 0; j < n; ++j) y[j] += w * tmp[j];
+            for (size_t part = 0; part < n_parts; ++part) {
+              float* y = Y[part][c].row(p).data();
+              const float* v = tmp.data() + offset[part];
+              for (Eigen::Index j = 0; j < widths[part]; ++j) y[j] += w * v[j];
+            }
           }
         }
       }
@@ -325,23 +337,33 @@ std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyImpl(const std::ve
 }
 
 std::array<MatrixXfR, 3> TransportOperator::Apply(const TablesRef& B) const {
-  return std::move(ApplyToEach({this}, B).front());
+  return std::move(ApplyAll({this}, {MapOf(B)}).front().front());
 }
 
 std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyToEach(const std::vector<const TransportOperator*>& ops,
                                                                       const TablesRef& B) {
-  BRDFSHOT_CHECK(!ops.empty());
+  std::vector<std::array<MatrixXfR, 3>> Ys;
+  for (auto& parts : ApplyAll(ops, {MapOf(B)})) Ys.push_back(std::move(parts.front()));
+  return Ys;
+}
+
+std::vector<std::vector<std::array<MatrixXfR, 3>>> TransportOperator::ApplyAll(
+    const std::vector<const TransportOperator*>& ops, const std::vector<TablesMap>& tables) {
+  BRDFSHOT_CHECK(!ops.empty() && !tables.empty());
   const MerlGrid& grid = ops.front()->grid_;
-  BRDFSHOT_CHECK(static_cast<size_t>(B.rows()) == grid.size(),
-                 "basis matrix has " << B.rows() << " rows, operator expects " << grid.size());
-  const Eigen::Index n = B.cols();
+  std::vector<Eigen::Index> widths;
+  for (const TablesMap& B : tables) {
+    BRDFSHOT_CHECK(static_cast<size_t>(B.rows()) == grid.size(),
+                   "basis matrix has " << B.rows() << " rows, operator expects " << grid.size());
+    widths.push_back(B.cols());
+  }
   struct Corner {
     size_t idx;
     double w;
   };
-  return ApplyImpl(ops, n, [&, corners = std::vector<Corner>()](const std::vector<TablePoint>& pts, float* out) mutable {
+  return ApplyImpl(ops, widths, [&, corners = std::vector<Corner>()](const std::vector<TablePoint>& pts, float* out) mutable {
     // Gather every point's trilinear corners, merge repeated entries, then read
-    // each table row once.
+    // each table's row once.
     corners.clear();
     for (const TablePoint& pt : pts) {
       size_t idx[8];
@@ -350,21 +372,30 @@ std::vector<std::array<MatrixXfR, 3>> TransportOperator::ApplyToEach(const std::
       for (int a = 0; a < k; ++a) corners.push_back({idx[a], w[a] * pt.weight});
     }
     std::sort(corners.begin(), corners.end(), [](const Corner& x, const Corner& y) { return x.idx < y.idx; });
-    std::fill(out, out + n, 0.0f);
+    size_t unique = 0;
     for (size_t a = 0; a < corners.size();) {
-      double w = 0;
       const size_t idx = corners[a].idx;
+      double w = 0;
       for (; a < corners.size() && corners[a].idx == idx; ++a) w += corners[a].w;
-      const float wf = static_cast<float>(w);
-      const float* b = B.row(static_cast<Eigen::Index>(idx)).data();
-      for (Eigen::Index j = 0; j < n; ++j) out[j] += wf * b[j];
+      corners[unique++] = {idx, w};
+    }
+    float* part_out = out;
+    for (const TablesMap& B : tables) {
+      const Eigen::Index n = B.cols();
+      std::fill(part_out, part_out + n, 0.0f);
+      for (size_t a = 0; a < unique; ++a) {
+        const float wf = static_cast<float>(corners[a].w);
+        const float* b = B.row(static_cast<Eigen::Index>(corners[a].idx)).data();
+        for (Eigen::Index j = 0; j < n; ++j) part_out[j] += wf * b[j];
+      }
+      part_out += n;
     }
   });
 }
 
 Eigen::MatrixXd TransportOperator::Render(const MerlBrdf& brdf) const {
   BRDFSHOT_CHECK(brdf.grid() == grid_, "BRDF grid differs from the operator's grid");
-  const auto Y = ApplyImpl({this}, 3, [&](const std::vector<TablePoint>& pts, float* out) {
+  const auto Y = ApplyImpl({this}, {3}, [&](const std::vector<TablePoint>& pts, float* out) {
     // Unmeasured entries read as 0, exactly as the basis matrix stores them, so
     // rendering a table and applying the operator to its columns agree.
     double acc[3] = {0, 0, 0};
@@ -376,7 +407,7 @@ Eigen::MatrixXd TransportOperator::Render(const MerlBrdf& brdf) const {
         for (int c = 0; c < 3; ++c) acc[c] += pt.weight * w[a] * std::max(0.0, brdf.Value(c, idx[a]));
     }
     for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(acc[c]);
-  }).front();
+  }).front().front();
   Eigen::MatrixXd y(pixels(), 3);
   for (int c = 0; c < 3; ++c) y.col(c) = Y[c].col(c).cast<double>();
   return y;

@@ -100,6 +100,13 @@ class TransportOperator {
   // each operator's Apply(B), in order.
   static std::vector<std::array<MatrixXfR, 3>> ApplyToEach(const std::vector<const TransportOperator*>& ops,
                                                            const TablesRef& B);
+  // ApplyToEach for several tables on the operators' grid (the database's, a
+  // baseline's lobes, out-of-database targets) at once: each pixel's lighting
+  // per sample (A, above) depends on neither table, so it is computed once for
+  // all of them, and each table entry's trilinear weights once. Result
+  // [operator][table]: that operator's Apply(table), the same to float rounding.
+  static std::vector<std::vector<std::array<MatrixXfR, 3>>> ApplyAll(const std::vector<const TransportOperator*>& ops,
+                                                                     const std::vector<TablesMap>& tables);
   // Same grid, half-vector cells and θ_o levels: what ApplyToEach needs.
   bool SharesTableReadsWith(const TransportOperator& other) const;
   // Image of one tabulated BRDF (channel c under light channel c): pixels × 3.
@@ -116,12 +123,13 @@ class TransportOperator {
     HalfDiff hd;
     double weight;
   };
-  // Y_c for a BRDF given by `row(points, out)`: writes the `n` column values of
-  // Σ weight · ρ(hd) over the points. One result per operator of `ops`, which
-  // share their table reads.
+  // Y_c for BRDFs given by `row(points, out)`: writes the Σ widths column
+  // values of Σ weight · ρ(hd) over the points, the columns of one result
+  // after another. Result [operator][part]: part t holds widths[t] columns.
+  // The operators of `ops` share their table reads.
   template <typename RowFn>
-  static std::vector<std::array<MatrixXfR, 3>> ApplyImpl(const std::vector<const TransportOperator*>& ops,
-                                                         Eigen::Index n, RowFn row);
+  static std::vector<std::vector<std::array<MatrixXfR, 3>>> ApplyImpl(
+      const std::vector<const TransportOperator*>& ops, const std::vector<Eigen::Index>& widths, RowFn row);
 
   MerlGrid grid_;
   RenderQuality quality_;

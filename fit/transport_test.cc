@@ -136,6 +136,42 @@ TEST(Transport, ApplyingSeveralOperatorsAtOnceGivesEachItsOwnImages) {
     }
 }
 
+// Several tables at once share the lighting per sample: each table's images
+// are those it gets alone, whatever the other tables' widths, suns included.
+TEST(Transport, ApplyingSeveralTablesAtOnceGivesEachItsOwnImages) {
+  const MerlGrid grid{30, 30, 60};
+  MatrixXfR B1(grid.size(), 5), B2(grid.size(), 2);
+  for (Eigen::Index r = 0; r < B1.rows(); ++r) {
+    for (Eigen::Index c = 0; c < B1.cols(); ++c) B1(r, c) = static_cast<float>(((r * 13 + c * 7) % 29) / 29.0);
+    for (Eigen::Index c = 0; c < B2.cols(); ++c) B2(r, c) = static_cast<float>(((r * 5 + c * 11) % 17) / 3.0);
+  }
+  cv::Mat noisy(32, 64, CV_32FC3);
+  cv::randu(noisy, 0, 4);
+  cv::Mat sun(32, 64, CV_32FC3, cv::Scalar::all(0.1));
+  sun.at<cv::Vec3f>(9, 20) = cv::Vec3f(5000, 4000, 3000);
+  const TransportOperator a = TransportOperator::Build(OrthographicSphere(24, 80), LatLongProbe(noisy), grid, {});
+  const TransportOperator b = TransportOperator::Build(OrthographicSphere(17, 60), LatLongProbe(sun), grid, {});
+  ASSERT_FALSE(b.lights().empty());
+  // The third table is a block of columns: its rows are strided.
+  const auto all = TransportOperator::ApplyAll({&a, &b}, {MapOf(B1), MapOf(B2), MapOf(B1.middleCols(1, 3))});
+  ASSERT_EQ(all.size(), 2u);
+  const TransportOperator* ops[2] = {&a, &b};
+  for (int o = 0; o < 2; ++o) {
+    ASSERT_EQ(all[o].size(), 3u);
+    const std::array<MatrixXfR, 3> alone[3] = {ops[o]->Apply(B1), ops[o]->Apply(B2), ops[o]->Apply(B1.middleCols(1, 3))};
+    for (int t = 0; t < 3; ++t)
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(all[o][t][c].rows(), alone[t][c].rows());
+        ASSERT_EQ(all[o][t][c].cols(), alone[t][c].cols());
+        EXPECT_GT(alone[t][c].norm(), 0);
+        EXPECT_LE((all[o][t][c] - alone[t][c]).cwiseAbs().maxCoeff(), 1e-6f * alone[t][c].cwiseAbs().maxCoeff())
+            << "operator " << o << " table " << t << " channel " << c;
+      }
+  }
+  const MatrixXfR other_grid = MatrixXfR::Ones(7, 2);
+  EXPECT_THROW(TransportOperator::ApplyAll({&a}, {MapOf(B1), MapOf(other_grid)}), std::logic_error);
+}
+
 TEST(Transport, OperatorsWithDifferentSamplingAreNotAppliedTogether) {
   const MerlGrid grid{30, 30, 60};
   const PixelGeometry g = OrthographicSphere(16, 80);
