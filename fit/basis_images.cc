@@ -6,6 +6,7 @@
 #include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/json_int.h"
+#include "util/mapped_file.h"
 #include "util/tagged_file.h"
 
 namespace brdfshot {
@@ -54,9 +55,15 @@ void BasisImages::Write(const std::string& path) const {
   });
 }
 
-BasisImages BasisImages::Read(const std::string& path) { return Parse(ReadFileBytes(path), path); }
+BasisImages BasisImages::Read(const std::string& path) {
+  // Mapped rather than read into a string: the file is 100-odd MB and is
+  // copied into the images once; a string would cost a second copy and the
+  // zeroing of its fresh pages (util/mapped_file.h).
+  const MappedFile file(path, /*populate=*/true);
+  return Parse(std::string_view(reinterpret_cast<const char*>(file.data()), file.size()), path);
+}
 
-BasisImages BasisImages::Parse(const std::string& bytes, const std::string& name) {
+BasisImages BasisImages::Parse(std::string_view bytes, const std::string& name) {
   TaggedHeader t = ParseTaggedHeader(bytes, kMagic, "basis-image file", name);
   BasisImages b;
   b.header = std::move(t.header);

@@ -11,6 +11,7 @@
 #include <array>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 #include "calib/latlong_probe.h"
 #include "fit/database.h"
@@ -35,7 +36,7 @@ struct BasisImages {
   void Write(const std::string& path) const;  // atomic
   // Errors name the file: bad magic, truncated, header/payload mismatch, NaN.
   static BasisImages Read(const std::string& path);
-  static BasisImages Parse(const std::string& bytes, const std::string& name);
+  static BasisImages Parse(std::string_view bytes, const std::string& name);
 };
 
 // The header every basis-image file carries: its format, the probe (name,

@@ -20,7 +20,7 @@ void WriteTaggedFile(const std::string& path, const char (&magic)[8], const nloh
   });
 }
 
-TaggedHeader ParseTaggedHeader(const std::string& bytes, const char (&magic)[8], const std::string& kind,
+TaggedHeader ParseTaggedHeader(std::string_view bytes, const char (&magic)[8], const std::string& kind,
                                const std::string& name) {
   if (bytes.size() < 16 || std::memcmp(bytes.data(), magic, 8) != 0)
     throw FileError(name, "not a brdfshot " + kind + " (bad magic)");

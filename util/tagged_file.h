@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
+#include <string_view>
 
 namespace brdfshot {
 
@@ -22,7 +23,7 @@ struct TaggedHeader {
 
 // Error naming `name`: "not a brdfshot <kind> (bad magic)", "truncated header",
 // "bad JSON header: ...".
-TaggedHeader ParseTaggedHeader(const std::string& bytes, const char (&magic)[8], const std::string& kind,
+TaggedHeader ParseTaggedHeader(std::string_view bytes, const char (&magic)[8], const std::string& kind,
                                const std::string& name);
 
 }  // namespace brdfshot
