@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstring>
 
-#include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/json_int.h"
 #include "util/mapped_file.h"
