@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 
+#include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/json_int.h"
 #include "util/mapped_file.h"
@@ -55,9 +57,12 @@ void BasisImages::Write(const std::string& path) const {
 }
 
 BasisImages BasisImages::Read(const std::string& path) {
-  // Mapped rather than read into a string: the file is 100-odd MB and is
-  // copied into the images once; a string would cost a second copy and the
-  // zeroing of its fresh pages (util/mapped_file.h).
+  // A regular file is mapped rather than read into a string: it is 100-odd MB
+  // and is copied into the images once; a string would cost a second copy and
+  // the zeroing of its fresh pages (util/mapped_file.h). A pipe or other
+  // stream has no size to map, so it is read.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Parse(ReadFileBytes(path), path);
   const MappedFile file(path, /*populate=*/true);
   return Parse(std::string_view(reinterpret_cast<const char*>(file.data()), file.size()), path);
 }

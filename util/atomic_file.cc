@@ -77,19 +77,22 @@ void WriteFileAtomicByName(const std::string& path, const std::function<void(con
 std::string ReadFileBytes(const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw FileError(path, "is a folder, expected a file");
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  // A pipe or device has no size and cannot be opened at its end (the open
+  // itself would fail): it is read as a stream.
+  const bool regular = fs::is_regular_file(path, ec);
+  std::ifstream in(path, regular ? std::ios::binary | std::ios::ate : std::ios::binary);
   if (!in) throw FileError(path, "cannot open for reading (missing or unreadable)");
+  if (!regular) {
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
   // One allocation of the file's size: a growing stream buffer re-copies and
   // re-faults a 100 MB basis-image file a dozen times.
   const std::streamoff size = in.tellg();
   in.seekg(0);
   std::string bytes(size > 0 ? static_cast<size_t>(size) : 0, '\0');
   if (size > 0 && !in.read(bytes.data(), size)) throw FileError(path, "read failed");
-  if (size <= 0) {  // not seekable (a pipe): read as a stream
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
   return bytes;
 }
 
