@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -103,8 +107,27 @@ TEST(SceneBasis, LobeImagesRoundTripThroughTheFileAndACutFileIsRefused) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   // A reader that stops early then fails the test, not the process.
   std::signal(SIGPIPE, SIG_IGN);
-  std::thread writer([&] { std::ofstream(fifo, std::ios::binary) << bytes; });
-  const BasisImages piped = BasisImages::Read(fifo);
+  std::atomic<bool> written{false};
+  std::thread writer([&] {
+    std::ofstream(fifo, std::ios::binary) << bytes;
+    written = true;
+  });
+  BasisImages piped;
+  try {
+    piped = BasisImages::Read(fifo);
+  } catch (const std::exception& e) {
+    // The writer may still wait for a reader to open the pipe, or for room
+    // in it: hold a read end open and drain it until the thread ends, so
+    // that the test reports the failure instead of hanging.
+    const int fd = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
+    char sink[1 << 16];
+    while (fd >= 0 && !written) {
+      if (::read(fd, sink, sizeof sink) <= 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    if (fd >= 0) ::close(fd);
+    writer.join();
+    FAIL() << "reading the basis images through a pipe: " << e.what();
+  }
   writer.join();
   for (int c = 0; c < 3; ++c) {
     EXPECT_EQ(piped.Y[c], a.Y[c]);
