@@ -112,27 +112,54 @@ double BinRows::RowSum(Eigen::Index i) const {
   return sum;
 }
 
-bool IsNegativeBin(const float* row, const std::vector<int>& members, const double* w3) {
-  double value[3] = {0, 0, 0}, magnitude[3] = {0, 0, 0};
-  for (size_t k = 0; k < members.size(); ++k) {
-    const double v = row[members[k]];
-    for (int c = 0; c < 3; ++c) {
-      const double term = v * w3[3 * k + static_cast<size_t>(c)];
-      value[c] += term, magnitude[c] += std::abs(term);
+BinWeights::BinWeights(const std::vector<int>& members, const Eigen::MatrixXd& wJ) : members_(members) {
+  BRDFSHOT_CHECK(wJ.rows() == static_cast<Eigen::Index>(members.size()) && wJ.cols() == 3,
+                 "BinWeights: weights are members × 3");
+  for (int c = 0; c < 3; ++c) w_[c].assign(wJ.col(c).data(), wJ.col(c).data() + wJ.rows());
+}
+
+bool BinWeights::IsNegative(const float* row, double value[3]) const {
+  // Four partial sums per channel, one per member of each group of four,
+  // are independent chains the compiler keeps in vector registers. The sum
+  // of the terms' magnitudes (the tolerance's scale) is needed only where a
+  // channel's value is below zero, which few bins are: a second loop.
+  constexpr int kLanes = 4;
+  const size_t k = members_.size();
+  const int* m = members_.data();
+  const auto sum = [&](bool magnitudes, double out[3]) {
+    double acc[3][kLanes] = {};
+    size_t i = 0;
+    for (; i + kLanes <= k; i += kLanes) {
+      double v[kLanes];
+      for (int l = 0; l < kLanes; ++l) v[l] = row[m[i + static_cast<size_t>(l)]];
+      for (int c = 0; c < 3; ++c) {
+        const double* w = w_[c].data() + i;
+        for (int l = 0; l < kLanes; ++l) acc[c][l] += magnitudes ? std::abs(v[l] * w[l]) : v[l] * w[l];
+      }
     }
-  }
+    for (; i < k; ++i) {
+      const double v = row[m[i]];
+      for (int c = 0; c < 3; ++c) acc[c][0] += magnitudes ? std::abs(v * w_[c][i]) : v * w_[c][i];
+    }
+    for (int c = 0; c < 3; ++c) out[c] = (acc[c][0] + acc[c][1]) + (acc[c][2] + acc[c][3]);
+  };
+  double s[3];
+  sum(false, s);
+  if (value) std::copy_n(s, 3, value);
+  if (s[0] >= 0 && s[1] >= 0 && s[2] >= 0) return false;
+  double a[3];
+  sum(true, a);
   for (int c = 0; c < 3; ++c)
-    if (value[c] < -kNegativeBinTolerance * magnitude[c]) return true;
+    if (s[c] < -kNegativeBinTolerance * a[c]) return true;
   return false;
 }
 
 std::vector<int> NegativeBins(const TablesRef& tables, const std::vector<int>& members, const Eigen::MatrixXd& wJ) {
-  BRDFSHOT_CHECK(wJ.rows() == static_cast<Eigen::Index>(members.size()) && wJ.cols() == 3);
-  const MatrixXdR w3 = wJ;  // row-major: member k's three channels side by side
+  const BinWeights weights(members, wJ);
   const Eigen::Index rows = tables.rows();
   std::vector<char> negative(rows, 0);
 #pragma omp parallel for schedule(static)
-  for (Eigen::Index i = 0; i < rows; ++i) negative[i] = IsNegativeBin(tables.row(i).data(), members, w3.data());
+  for (Eigen::Index i = 0; i < rows; ++i) negative[i] = weights.IsNegative(tables.row(i).data());
   std::vector<int> out;
   for (Eigen::Index i = 0; i < rows; ++i)
     if (negative[i]) out.push_back(static_cast<int>(i));

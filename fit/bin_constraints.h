@@ -105,10 +105,23 @@ std::vector<BinConstrainedSolution> ConstrainChannelsToNonNegativeBins(
 // constraint holds at zero sits.
 constexpr double kNegativeBinTolerance = 1e-5;
 
-// Whether the BRDF is negative in any channel at one table row: `row` the
-// row's values over every basis, `w3` the weights of `members` interleaved
-// by channel (w3[3k + c] for member k, channel c).
-bool IsNegativeBin(const float* row, const std::vector<int>& members, const double* w3);
+// The weights of one fit for reading table rows: `members` (columns of the
+// tables) and their weights in each channel (wJ, members × 3), kept one
+// channel after another so that a row's three values are summed four
+// members at a time (the checks of the whole table spend their time here).
+class BinWeights {
+ public:
+  BinWeights(const std::vector<int>& members, const Eigen::MatrixXd& wJ);
+  // Whether the BRDF is negative in any channel at one table row (`row`: its
+  // values over every basis); `value`, where given: the row's value in each
+  // channel, Σ_i w_i b_i.
+  bool IsNegative(const float* row, double value[3] = nullptr) const;
+  const std::vector<int>& members() const { return members_; }
+
+ private:
+  std::vector<int> members_;
+  std::vector<double> w_[3];
+};
 
 // The bins (rows of `tables`) where the BRDF of weights wJ (members × 3, over
 // columns `members`) is negative in any channel: the whole table, checked.

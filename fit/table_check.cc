@@ -9,77 +9,191 @@
 
 namespace brdfshot {
 
-TableCheck::TableCheck(const TablesRef& tables, int block_rows) : tables_(MapOf(tables)), block_rows_(block_rows) {
+namespace {
+
+// The centre of the range [l, h] (float) and the deviation from it rounded
+// up, so that b = centre + (b − centre) holds exactly in the bound; the
+// differences of floats are exact in double.
+void CentreAndSpread(float l, float h, float* centre, float* spread) {
+  const float c = static_cast<float>(0.5 * (static_cast<double>(l) + h));
+  const double d = std::max(static_cast<double>(h) - c, static_cast<double>(c) - l);
+  float s = static_cast<float>(d);
+  if (static_cast<double>(s) < d) s = std::nextafter(s, std::numeric_limits<float>::infinity());
+  *centre = c, *spread = s;
+}
+
+}  // namespace
+
+TableCheck::TableCheck(const TablesRef& tables, int block_rows, int sub_rows)
+    : tables_(MapOf(tables)), block_rows_(block_rows), sub_rows_(sub_rows) {
   BRDFSHOT_CHECK(block_rows >= 1, "TableCheck: blocks need at least one row");
+  if (sub_rows_ <= 0 || sub_rows_ >= block_rows_) sub_rows_ = block_rows_;
+  BRDFSHOT_CHECK(block_rows_ % sub_rows_ == 0, "TableCheck: sub-blocks must divide the blocks");
   const Eigen::Index rows = tables.rows(), cols = tables.cols();
-  const Eigen::Index blocks = (rows + block_rows - 1) / block_rows;
+  const Eigen::Index blocks = (rows + block_rows_ - 1) / block_rows_, subs = (rows + sub_rows_ - 1) / sub_rows_;
+  const Eigen::Index per_block = block_rows_ / sub_rows_;
   centre_.resize(blocks, cols);
   spread_.resize(blocks, cols);
+  sub_centre_.resize(two_levels() ? subs : 0, cols);
+  sub_spread_.resize(two_levels() ? subs : 0, cols);
 #pragma omp parallel for schedule(static)
   for (Eigen::Index b = 0; b < blocks; ++b) {
-    const Eigen::Index r0 = b * block_rows, r1 = std::min(rows, r0 + block_rows);
     float* lo = centre_.row(b).data();  // the least value first, then the centre
     float* hi = spread_.row(b).data();  // the largest value first, then the spread
     std::fill_n(lo, cols, std::numeric_limits<float>::infinity());
     std::fill_n(hi, cols, -std::numeric_limits<float>::infinity());
-    for (Eigen::Index r = r0; r < r1; ++r) {
-      const float* row = tables.row(r).data();
-      // A bin no material was measured at is zero in every column, and so
-      // is every BRDF there: it cannot go negative, and leaving it out of
-      // the range keeps the block's spread to the measured bins.
-      bool measured = false;
-      for (Eigen::Index i = 0; i < cols && !measured; ++i) measured = row[i] != 0;
-      if (!measured) continue;
-      for (Eigen::Index i = 0; i < cols; ++i) lo[i] = std::min(lo[i], row[i]), hi[i] = std::max(hi[i], row[i]);
+    std::vector<float> sub_lo(static_cast<size_t>(cols)), sub_hi(static_cast<size_t>(cols));
+    for (Eigen::Index u = b * per_block; u < std::min(subs, (b + 1) * per_block); ++u) {
+      std::fill(sub_lo.begin(), sub_lo.end(), std::numeric_limits<float>::infinity());
+      std::fill(sub_hi.begin(), sub_hi.end(), -std::numeric_limits<float>::infinity());
+      for (Eigen::Index r = u * sub_rows_; r < std::min(rows, (u + 1) * sub_rows_); ++r) {
+        const float* row = tables.row(r).data();
+        // A bin no material was measured at is zero in every column, and so
+        // is every BRDF there: it cannot go negative, and leaving it out of
+        // the range keeps the block's spread to the measured bins.
+        bool measured = false;
+        for (Eigen::Index i = 0; i < cols && !measured; ++i) measured = row[i] != 0;
+        if (!measured) continue;
+        for (Eigen::Index i = 0; i < cols; ++i)
+          sub_lo[static_cast<size_t>(i)] = std::min(sub_lo[static_cast<size_t>(i)], row[i]),
+          sub_hi[static_cast<size_t>(i)] = std::max(sub_hi[static_cast<size_t>(i)], row[i]);
+      }
+      const bool measured = sub_lo[0] <= sub_hi[0];
+      for (Eigen::Index i = 0; i < cols; ++i) {
+        const float l = sub_lo[static_cast<size_t>(i)], h = sub_hi[static_cast<size_t>(i)];
+        if (measured) lo[i] = std::min(lo[i], l), hi[i] = std::max(hi[i], h);
+        if (two_levels()) {
+          if (measured)
+            CentreAndSpread(l, h, &sub_centre_(u, i), &sub_spread_(u, i));
+          else
+            sub_centre_(u, i) = sub_spread_(u, i) = 0;  // no measured bin: every BRDF is zero there
+        }
+      }
     }
-    if (!(lo[0] <= hi[0])) {  // no measured bin in the block
-      std::fill_n(lo, cols, 0.0f);
-      std::fill_n(hi, cols, 0.0f);
-      continue;
-    }
-    // The centre of the range (float) and the deviation from it rounded up,
-    // so that b = centre + (b − centre) holds exactly in the bound; the
-    // differences of floats are exact in double.
+    const bool measured = lo[0] <= hi[0];
     for (Eigen::Index i = 0; i < cols; ++i) {
-      const double l = lo[i], h = hi[i];
-      const float centre = static_cast<float>(0.5 * (l + h));
-      const double d = std::max(h - centre, centre - l);
-      float spread = static_cast<float>(d);
-      if (static_cast<double>(spread) < d) spread = std::nextafter(spread, std::numeric_limits<float>::infinity());
-      lo[i] = centre, hi[i] = spread;
+      if (measured)
+        CentreAndSpread(lo[i], hi[i], &lo[i], &hi[i]);
+      else
+        lo[i] = hi[i] = 0;
     }
   }
 }
+
+namespace {
+
+// Σ_i w_i c_i − Σ_i |w_i| s_i over the members, per channel, for one row of
+// a summary's centres and spreads.
+void Bound(const float* centre, const float* spread, const std::vector<int>& members, const double* w3,
+           const double* aw3, double bound[3]) {
+  bound[0] = bound[1] = bound[2] = 0;
+  for (size_t j = 0; j < members.size(); ++j) {
+    const double m = centre[members[j]], d = spread[members[j]];
+    for (int c = 0; c < 3; ++c) bound[c] += w3[3 * j + static_cast<size_t>(c)] * m - aw3[3 * j + static_cast<size_t>(c)] * d;
+  }
+}
+
+bool AtLeastZero(const double v[3]) { return v[0] >= 0 && v[1] >= 0 && v[2] >= 0; }
+
+}  // namespace
+
+void TableCheck::BlockBound(Eigen::Index b, const std::vector<int>& members, const double* w3, const double* aw3,
+                            double bound[3]) const {
+  Bound(centre_.row(b).data(), spread_.row(b).data(), members, w3, aw3, bound);
+}
+
+void TableCheck::SubBound(Eigen::Index u, const std::vector<int>& members, const double* w3, const double* aw3,
+                          double bound[3]) const {
+  if (two_levels())
+    Bound(sub_centre_.row(u).data(), sub_spread_.row(u).data(), members, w3, aw3, bound);
+  else
+    BlockBound(u, members, w3, aw3, bound);
+}
+
+Eigen::Index TableCheck::subs() const { return two_levels() ? sub_centre_.rows() : centre_.rows(); }
 
 std::vector<int> TableCheck::NegativeBins(const std::vector<int>& members, const Eigen::MatrixXd& wJ,
                                           double* cleared_share) const {
   const Eigen::Index k = static_cast<Eigen::Index>(members.size());
   BRDFSHOT_CHECK(wJ.rows() == k && wJ.cols() == 3, "TableCheck: weights are members × 3");
   for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables_.cols(), "TableCheck: member out of range");
-  const Eigen::Index rows = tables_.rows(), blocks = centre_.rows();
+  const Eigen::Index rows = tables_.rows(), blocks = centre_.rows(), per_block = block_rows_ / sub_rows_;
   // Each member's three channels side by side, read with its centre and spread.
   const MatrixXdR w3 = wJ;
-  const Eigen::ArrayXXd aw3 = w3.array().abs();
+  const MatrixXdR aw3 = w3.cwiseAbs();
+  const BinWeights weights(members, wJ);
   std::vector<char> negative(static_cast<size_t>(rows), 0);
-  long cleared = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : cleared)
+  long read = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : read)
   for (Eigen::Index b = 0; b < blocks; ++b) {
-    const float* centre = centre_.row(b).data();
-    const float* spread = spread_.row(b).data();
-    double bound[3] = {0, 0, 0};
-    for (Eigen::Index j = 0; j < k; ++j) {
-      const double m = centre[members[static_cast<size_t>(j)]], d = spread[members[static_cast<size_t>(j)]];
-      for (int c = 0; c < 3; ++c) bound[c] += w3(j, c) * m - aw3(j, c) * d;
+    double bound[3];
+    BlockBound(b, members, w3.data(), aw3.data(), bound);
+    if (AtLeastZero(bound)) continue;
+    for (Eigen::Index u = b * per_block; u < std::min(subs(), (b + 1) * per_block); ++u) {
+      if (two_levels()) {
+        SubBound(u, members, w3.data(), aw3.data(), bound);
+        if (AtLeastZero(bound)) continue;
+      }
+      const Eigen::Index r1 = std::min(rows, (u + 1) * sub_rows_);
+      for (Eigen::Index r = u * sub_rows_; r < r1; ++r)
+        negative[static_cast<size_t>(r)] = weights.IsNegative(tables_.row(r).data());
+      read += r1 - u * sub_rows_;
     }
-    if (bound[0] >= 0 && bound[1] >= 0 && bound[2] >= 0) {
-      ++cleared;
-      continue;
-    }
-    const Eigen::Index r0 = b * block_rows_, r1 = std::min(rows, r0 + block_rows_);
-    for (Eigen::Index r = r0; r < r1; ++r)
-      negative[static_cast<size_t>(r)] = IsNegativeBin(tables_.row(r).data(), members, w3.data());
   }
-  if (cleared_share) *cleared_share = blocks ? static_cast<double>(cleared) / static_cast<double>(blocks) : 1.0;
+  if (cleared_share) *cleared_share = rows ? 1.0 - static_cast<double>(read) / static_cast<double>(rows) : 1.0;
+  std::vector<int> out;
+  for (Eigen::Index r = 0; r < rows; ++r)
+    if (negative[static_cast<size_t>(r)]) out.push_back(static_cast<int>(r));
+  return out;
+}
+
+TableCheckSequence::TableCheckSequence(const TableCheck& check, std::vector<int> members)
+    : check_(check), members_(std::move(members)), known_(static_cast<size_t>(check.subs()), 0) {
+  for (int m : members_) BRDFSHOT_CHECK(m >= 0 && m < check.tables().cols(), "TableCheck: member out of range");
+}
+
+std::vector<int> TableCheckSequence::NegativeBins(const Eigen::MatrixXd& wJ, double* read_share) {
+  const Eigen::Index k = static_cast<Eigen::Index>(members_.size());
+  BRDFSHOT_CHECK(wJ.rows() == k && wJ.cols() == 3, "TableCheck: weights are members × 3");
+  const TablesMap& tables = check_.tables();
+  const Eigen::Index rows = tables.rows(), blocks = check_.blocks(), subs = check_.subs();
+  const Eigen::Index sub_rows = check_.sub_rows(), per_block = check_.block_rows() / sub_rows;
+  if (!values_) values_.reset(new double[static_cast<size_t>(3 * rows)]);  // left unset: pages only for read blocks
+  const bool have_last = last_.size() != 0;
+  const MatrixXdR w3 = wJ, aw3 = w3.cwiseAbs();
+  const BinWeights weights(members_, wJ);
+  const MatrixXdR d3 = have_last ? MatrixXdR(wJ - last_) : MatrixXdR::Zero(k, 3), ad3 = d3.cwiseAbs();
+  std::vector<char> negative(static_cast<size_t>(rows), 0);
+  long read = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : read)
+  for (Eigen::Index b = 0; b < blocks; ++b) {
+    const Eigen::Index u0 = b * per_block, u1 = std::min(subs, (b + 1) * per_block);
+    double bound[3];
+    check_.BlockBound(b, members_, w3.data(), aw3.data(), bound);
+    const bool block_cleared = AtLeastZero(bound);
+    for (Eigen::Index u = u0; u < u1; ++u) {
+      if (!block_cleared && check_.two_levels()) check_.SubBound(u, members_, w3.data(), aw3.data(), bound);
+      if (block_cleared || AtLeastZero(bound)) {
+        known_[static_cast<size_t>(u)] = 0;  // cleared by a bound: no value of its bins kept
+        continue;
+      }
+      double gain[3] = {0, 0, 0};
+      const bool known = have_last && known_[static_cast<size_t>(u)];
+      if (known) check_.SubBound(u, members_, d3.data(), ad3.data(), gain);
+      for (Eigen::Index r = u * sub_rows; r < std::min(rows, (u + 1) * sub_rows); ++r) {
+        double* v = &values_[static_cast<size_t>(3 * r)];
+        if (known && v[0] + gain[0] >= 0 && v[1] + gain[1] >= 0 && v[2] + gain[2] >= 0) {
+          for (int c = 0; c < 3; ++c) v[c] += gain[c];  // a lower bound of the value at wJ, ≥ 0
+          continue;
+        }
+        negative[static_cast<size_t>(r)] = weights.IsNegative(tables.row(r).data(), v);
+        ++read;
+      }
+      known_[static_cast<size_t>(u)] = 1;
+    }
+  }
+  last_ = wJ;
+  if (read_share) *read_share = rows ? static_cast<double>(read) / static_cast<double>(rows) : 0.0;
   std::vector<int> out;
   for (Eigen::Index r = 0; r < rows; ++r)
     if (negative[static_cast<size_t>(r)]) out.push_back(static_cast<int>(r));
@@ -97,11 +211,15 @@ int KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpe
   constraint.kind = WeightConstraint::Kind::kBins;
   constraint.bins = bins;
   std::unique_ptr<TableCheck> own;  // built at the second pass, when none is given
+  std::unique_ptr<TableCheckSequence> sequence;
   int added = 0;
   for (int pass = 0; pass < max_passes; ++pass) {
     const Eigen::MatrixXd wJ = s->weights(cls.members, Eigen::all);
-    if (!check && pass > 0) own = std::make_unique<TableCheck>(tables), check = own.get();
-    const std::vector<int> negative = check ? check->NegativeBins(cls.members, wJ) : NegativeBins(tables, cls.members, wJ);
+    // One level: a fit checked once or twice does not repay the sub-blocks'
+    // summary (it takes longer to build than a pass over every bin).
+    if (!check && pass > 0) own = std::make_unique<TableCheck>(tables, TableCheck::kDefaultBlockRows, 0), check = own.get();
+    if (check && !sequence) sequence = std::make_unique<TableCheckSequence>(*check, cls.members);
+    const std::vector<int> negative = sequence ? sequence->NegativeBins(wJ) : NegativeBins(tables, cls.members, wJ);
     if (negative.empty()) break;
     added += static_cast<int>(negative.size());
     bins->Append(tables, cls.members, negative);

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "fit/bin_constraints.h"
@@ -28,31 +29,76 @@ namespace brdfshot {
 
 class TableCheck {
  public:
-  // Summarises `tables` (bins × bases) in blocks of `block_rows` rows: one
-  // pass over the tables. `tables` must outlive the check.
-  explicit TableCheck(const TablesRef& tables, int block_rows = kDefaultBlockRows);
+  // Summarises `tables` (bins × bases) in blocks of `block_rows` rows, and
+  // each block in sub-blocks of `sub_rows` rows (0, or not fewer than
+  // `block_rows`: one level): one pass over the tables. `tables` must
+  // outlive the check.
+  explicit TableCheck(const TablesRef& tables, int block_rows = kDefaultBlockRows, int sub_rows = kDefaultSubRows);
 
   // The bins where the BRDF of weights wJ (members × 3, over columns
   // `members` of the tables) is negative in any channel, by the rule of
   // NegativeBins (kNegativeBinTolerance), ascending. `cleared_share`: the
-  // share of blocks the bound alone cleared (for benchmarks).
+  // share of bins the bounds cleared without reading them (for benchmarks).
   std::vector<int> NegativeBins(const std::vector<int>& members, const Eigen::MatrixXd& wJ,
                                 double* cleared_share = nullptr) const;
 
   const TablesMap& tables() const { return tables_; }
+  // The bound Σ_i w_i c_i − Σ_i |w_i| s_i of block `b` (sub-block `u`), per
+  // channel, for the weights w3 (members × 3, row-major) and their
+  // magnitudes aw3.
+  void BlockBound(Eigen::Index b, const std::vector<int>& members, const double* w3, const double* aw3,
+                  double bound[3]) const;
+  void SubBound(Eigen::Index u, const std::vector<int>& members, const double* w3, const double* aw3,
+                double bound[3]) const;
   Eigen::Index blocks() const { return centre_.rows(); }
+  Eigen::Index subs() const;
   int block_rows() const { return block_rows_; }
+  int sub_rows() const { return sub_rows_; }
+  bool two_levels() const { return sub_rows_ < block_rows_; }
 
-  // 128 rows (two thirds of a φ_d sweep of the MERL grid): smaller blocks
-  // clear a little more but their summary takes longer to read, larger ones
-  // clear less (docs/benchmarks.md measures 32 to 256).
+  // 128 rows (two thirds of a φ_d sweep of the MERL grid) clear most blocks
+  // of a well-regularised fit at a read of their summary alone; where the
+  // weights cancel more (a fit near least squares) a block's range is too
+  // wide, and its 16-row sub-blocks clear three to six times more of the
+  // bins than the blocks (docs/benchmarks.md) for an eighth of the bins'
+  // reading each. The sub-blocks' summary is an eighth of the tables' size.
   static constexpr int kDefaultBlockRows = 128;
+  static constexpr int kDefaultSubRows = 16;
 
  private:
   const TablesMap tables_;
-  int block_rows_;
-  MatrixXfR centre_;  // blocks × bases: the centre of the block's range
-  MatrixXfR spread_;  // blocks × bases: max over the block's rows of |b − centre|, rounded up
+  int block_rows_, sub_rows_;
+  MatrixXfR centre_;      // blocks × bases: the centre of the block's range
+  MatrixXfR spread_;      // blocks × bases: max over the block's rows of |b − centre|, rounded up
+  MatrixXfR sub_centre_;  // the same per sub-block (empty with one level)
+  MatrixXfR sub_spread_;
+};
+
+// Successive checks of one class's weights, each close to the last (a fit
+// solved again with the bins the last check found): a bin whose last value
+// stays ≥ 0 under any change the summary allows is not read again. For the
+// change d = w − w_last, every bin of a block gains at least
+//   Σ_i d_i c_i − Σ_i |d_i| s_i
+// (the block's bound, for d), so a bin is cleared where its last value plus
+// that is ≥ 0, and keeps that sum as a lower bound of its new value; only the
+// others are read. Adding a few hundred bins to a fit moves its weights by a
+// few per cent, and that clears 60 to 99.9 % of the bins a check of the new
+// weights alone would read (docs/benchmarks.md). The bins returned are those
+// of TableCheck::NegativeBins for the same weights.
+class TableCheckSequence {
+ public:
+  // `check` must outlive the sequence.
+  TableCheckSequence(const TableCheck& check, std::vector<int> members);
+  std::vector<int> NegativeBins(const Eigen::MatrixXd& wJ, double* read_share = nullptr);
+
+ private:
+  const TableCheck& check_;
+  std::vector<int> members_;
+  Eigen::MatrixXd last_;  // the weights of the last check (members × 3); empty before the first
+  // Per sub-block: whether values_ holds, for each of its bins and channels, a
+  // lower bound of the value at `last_` (exact where the bin was read).
+  std::vector<char> known_;
+  std::unique_ptr<double[]> values_;  // bins × 3, written only in known blocks
 };
 
 // `s`: class `cls` solved at `lambda` under the constraint of `bins` (its

@@ -61,37 +61,68 @@ void BM_NegativeBinsEveryBin(benchmark::State& state) {
   state.counters["negative_bins"] = static_cast<double>(found);
 }
 
-void BM_TableCheckBuild(benchmark::State& state) {  // once per fit (or per evaluation)
+void BM_TableCheckBuild(benchmark::State& state) {  // once per fit (or per evaluation); Args: block and sub-block rows
   const Setup& s = TheSetup();
   if (!s.error.empty()) return state.SkipWithError(s.error.c_str());
   for (auto _ : state) {
-    const TableCheck check(s.db.B, static_cast<int>(state.range(0)));
+    const TableCheck check(s.db.B, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
     benchmark::DoNotOptimize(check.blocks());
   }
 }
 
-void BM_TableCheckNegativeBins(benchmark::State& state) {  // Args as BM_NegativeBinsEveryBin, then the block's rows
+// Args as BM_NegativeBinsEveryBin, then the block's and the sub-block's rows.
+void BM_TableCheckNegativeBins(benchmark::State& state) {
   const Setup& s = TheSetup();
   if (!s.error.empty()) return state.SkipWithError(s.error.c_str());
   const std::vector<int>& J = s.classes.at(static_cast<size_t>(state.range(0)));
   const Eigen::MatrixXd w = Weights(J, 0.1 * static_cast<double>(state.range(1)));
-  const TableCheck check(s.db.B, static_cast<int>(state.range(2)));
+  const TableCheck check(s.db.B, static_cast<int>(state.range(2)), static_cast<int>(state.range(3)));
   size_t found = 0;
   double cleared = 0;
   for (auto _ : state) found = check.NegativeBins(J, w, &cleared).size();
   state.counters["members"] = static_cast<double>(J.size());
   state.counters["negative_bins"] = static_cast<double>(found);
-  state.counters["blocks_cleared"] = cleared;
+  state.counters["bins_cleared"] = cleared;
+}
+
+// A fit solved again: the weights of BM_TableCheckNegativeBins checked, then
+// moved by Gaussian noise of `nudge`/1000 of their spread (the third Arg),
+// checked again by the sequence (timed) and by a fresh check (not timed).
+void BM_TableCheckSequenceNudge(benchmark::State& state) {
+  const Setup& s = TheSetup();
+  if (!s.error.empty()) return state.SkipWithError(s.error.c_str());
+  const std::vector<int>& J = s.classes.at(static_cast<size_t>(state.range(0)));
+  const double spread = 0.1 * static_cast<double>(state.range(1)), nudge = 1e-3 * static_cast<double>(state.range(2));
+  const Eigen::MatrixXd w = Weights(J, spread);
+  std::mt19937 rng(12);
+  std::normal_distribution<double> g(0, 1);
+  Eigen::MatrixXd moved = w;
+  for (Eigen::Index i = 0; i < moved.size(); ++i) moved(i) += nudge * spread * g(rng) / static_cast<double>(J.size());
+  const TableCheck check(s.db.B);
+  double read = 0;
+  size_t found = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    TableCheckSequence sequence(check, J);
+    sequence.NegativeBins(w);
+    state.ResumeTiming();
+    found = sequence.NegativeBins(moved, &read).size();
+  }
+  state.counters["bins_read"] = read;
+  state.counters["negative_bins"] = static_cast<double>(found);
+  state.counters["same_as_fresh"] = check.NegativeBins(J, moved).size() == found;
 }
 
 }  // namespace
 
 BENCHMARK(BM_NegativeBinsEveryBin)->Args({0, 5})->Args({0, 20})->Args({0, 80})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_TableCheckBuild)->Arg(32)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TableCheckBuild)->Args({128, 0})->Args({128, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TableCheckNegativeBins)
-    ->ArgsProduct({{0}, {5, 20, 80}, {32, 64, 128, 256}})
+    ->ArgsProduct({{0}, {5, 20, 80}, {32, 128, 256}, {0}})
+    ->ArgsProduct({{0}, {5, 20, 80}, {128}, {8, 16, 32}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+BENCHMARK(BM_TableCheckSequenceNudge)->ArgsProduct({{0}, {20, 80}, {10, 50}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace brdfshot
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 
@@ -47,16 +48,18 @@ TEST(TableCheck, FindsExactlyTheBinsTheWholeTableCheckFinds) {
   std::mt19937 rng(4);
   std::normal_distribution<double> g(0, 1);
   int cases_with_negatives = 0, cases_without = 0;
-  for (int block : {1, 7, 32, 1003, 2000}) {
-    const TableCheck check(t, block);
+  // Blocks with and without sub-blocks (0: one level).
+  for (const auto [block, sub] : std::vector<std::pair<int, int>>{{1, 0}, {7, 0}, {32, 0}, {32, 8}, {1003, 0}, {2000, 0}, {2000, 16}}) {
+    const TableCheck check(t, block, sub);
     EXPECT_EQ(check.blocks(), (1003 + block - 1) / block);
+    EXPECT_EQ(check.subs(), sub ? (1003 + sub - 1) / sub : check.blocks());
     for (int trial = 0; trial < 30; ++trial) {
       Eigen::MatrixXd w(static_cast<Eigen::Index>(members.size()), 3);
       const double spread = 0.1 * trial;  // from all weights near 1/k to weights of both signs
       for (Eigen::Index i = 0; i < w.size(); ++i) w(i) = (1 + spread * g(rng)) / static_cast<double>(members.size());
       const std::vector<int> expected = NegativeBins(t, members, w);
       double cleared = -1;
-      EXPECT_EQ(check.NegativeBins(members, w, &cleared), expected) << "block " << block << ", trial " << trial;
+      EXPECT_EQ(check.NegativeBins(members, w, &cleared), expected) << "block " << block << "/" << sub << ", trial " << trial;
       EXPECT_GE(cleared, 0.0);
       EXPECT_LE(cleared, 1.0);
       (expected.empty() ? cases_without : cases_with_negatives)++;
@@ -64,6 +67,36 @@ TEST(TableCheck, FindsExactlyTheBinsTheWholeTableCheckFinds) {
   }
   EXPECT_GT(cases_with_negatives, 20);
   EXPECT_GT(cases_without, 5);
+}
+
+TEST(TableCheck, ASequenceOfNearbyWeightsFindsWhatEachCheckAloneFinds) {
+  // A fit solved again moves its weights a little; a fit of another
+  // material moves them far. Either way the sequence must return the bins
+  // of a fresh check, and reading few bins is only allowed where the change
+  // is small.
+  MatrixXfR t = SmoothTable(1003, 40, 5);
+  t.middleRows(130, 40).setZero();  // not measured
+  const std::vector<int> members = Members(40, 1);
+  std::mt19937 rng(6);
+  std::normal_distribution<double> g(0, 1);
+  for (const auto [block, sub] : std::vector<std::pair<int, int>>{{32, 0}, {32, 8}, {128, 16}}) {
+    const TableCheck check(t, block, sub);
+    TableCheckSequence sequence(check, members);
+    Eigen::MatrixXd w(40, 3);
+    int with_negatives = 0;
+    for (int step = 0; step < 24; ++step) {
+      if (step % 6 == 0)  // another fit: weights of both signs
+        for (Eigen::Index i = 0; i < w.size(); ++i) w(i) = (1 + 1.5 * g(rng)) / 40.0;
+      else  // the same fit, nudged
+        for (Eigen::Index i = 0; i < w.size(); ++i) w(i) += 1e-3 * g(rng) / 40.0;
+      const std::vector<int> expected = NegativeBins(t, members, w);
+      double read = -1;
+      EXPECT_EQ(sequence.NegativeBins(w, &read), expected) << "block " << block << "/" << sub << ", step " << step;
+      if (step % 6 != 0) EXPECT_LT(read, 0.2) << "a nudge re-reads most bins, step " << step;
+      with_negatives += !expected.empty();
+    }
+    EXPECT_GT(with_negatives, 12);
+  }
 }
 
 TEST(TableCheck, OneNegativeBinAmongLargeValuesIsFound) {
@@ -94,6 +127,7 @@ TEST(TableCheck, RefusesWeightsOfTheWrongShapeAndMembersOutOfRange) {
   EXPECT_THROW(check.NegativeBins({0, 1}, Eigen::MatrixXd::Ones(3, 3)), std::logic_error);
   EXPECT_THROW(check.NegativeBins({0, 4}, Eigen::MatrixXd::Ones(2, 3)), std::logic_error);
   EXPECT_THROW(TableCheck(t, 0), std::logic_error);
+  EXPECT_THROW(TableCheck(t, 32, 5), std::logic_error);  // sub-blocks that do not divide the blocks
 }
 
 }  // namespace brdfshot
