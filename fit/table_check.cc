@@ -84,16 +84,39 @@ namespace {
 
 // Σ_i w_i c_i − Σ_i |w_i| s_i over the members, per channel, for one row of
 // a summary's centres and spreads.
-void Bound(const float* centre, const float* spread, const std::vector<int>& members, const double* w3,
-           const double* aw3, double bound[3]) {
-  bound[0] = bound[1] = bound[2] = 0;
-  for (size_t j = 0; j < members.size(); ++j) {
-    const double m = centre[members[j]], d = spread[members[j]];
-    for (int c = 0; c < 3; ++c) bound[c] += w3[3 * j + static_cast<size_t>(c)] * m - aw3[3 * j + static_cast<size_t>(c)] * d;
+void Bound(const float* centre, const float* spread, const std::vector<int>& members, const double* w,
+           const double* aw, double bound[3]) {
+  // Four partial sums per channel (members j, j+1, j+2, j+3), as in
+  // BinWeights::IsNegative: independent chains the compiler vectorises.
+  constexpr int kLanes = 4;
+  const size_t k = members.size();
+  const int* m = members.data();
+  double acc[3][kLanes] = {};
+  size_t j = 0;
+  for (; j + kLanes <= k; j += kLanes) {
+    double c4[kLanes], d4[kLanes];
+    for (int l = 0; l < kLanes; ++l) c4[l] = centre[m[j + static_cast<size_t>(l)]], d4[l] = spread[m[j + static_cast<size_t>(l)]];
+    for (int c = 0; c < 3; ++c)
+      for (int l = 0; l < kLanes; ++l) {
+        const size_t i = static_cast<size_t>(c) * k + j + static_cast<size_t>(l);
+        acc[c][l] += w[i] * c4[l] - aw[i] * d4[l];
+      }
   }
+  for (; j < k; ++j)
+    for (int c = 0; c < 3; ++c) {
+      const size_t i = static_cast<size_t>(c) * k + j;
+      acc[c][0] += w[i] * centre[m[j]] - aw[i] * spread[m[j]];
+    }
+  for (int c = 0; c < 3; ++c) bound[c] = (acc[c][0] + acc[c][1]) + (acc[c][2] + acc[c][3]);
 }
 
 bool AtLeastZero(const double v[3]) { return v[0] >= 0 && v[1] >= 0 && v[2] >= 0; }
+
+// The largest float not above v: a value kept in float stays a lower bound.
+float FloatBelow(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
 
 }  // namespace
 
@@ -118,9 +141,8 @@ std::vector<int> TableCheck::NegativeBins(const std::vector<int>& members, const
   BRDFSHOT_CHECK(wJ.rows() == k && wJ.cols() == 3, "TableCheck: weights are members × 3");
   for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables_.cols(), "TableCheck: member out of range");
   const Eigen::Index rows = tables_.rows(), blocks = centre_.rows(), per_block = block_rows_ / sub_rows_;
-  // Each member's three channels side by side, read with its centre and spread.
-  const MatrixXdR w3 = wJ;
-  const MatrixXdR aw3 = w3.cwiseAbs();
+  const Eigen::MatrixXd& w3 = wJ;
+  const Eigen::MatrixXd aw3 = w3.cwiseAbs();
   const BinWeights weights(members, wJ);
   std::vector<char> negative(static_cast<size_t>(rows), 0);
   long read = 0;
@@ -158,11 +180,12 @@ std::vector<int> TableCheckSequence::NegativeBins(const Eigen::MatrixXd& wJ, dou
   const TablesMap& tables = check_.tables();
   const Eigen::Index rows = tables.rows(), blocks = check_.blocks(), subs = check_.subs();
   const Eigen::Index sub_rows = check_.sub_rows(), per_block = check_.block_rows() / sub_rows;
-  if (!values_) values_.reset(new double[static_cast<size_t>(3 * rows)]);  // left unset: pages only for read blocks
+  if (!values_) values_.reset(new float[static_cast<size_t>(3 * rows)]);  // left unset: pages only for read blocks
   const bool have_last = last_.size() != 0;
-  const MatrixXdR w3 = wJ, aw3 = w3.cwiseAbs();
+  const Eigen::MatrixXd& w3 = wJ;
+  const Eigen::MatrixXd aw3 = w3.cwiseAbs();
   const BinWeights weights(members_, wJ);
-  const MatrixXdR d3 = have_last ? MatrixXdR(wJ - last_) : MatrixXdR::Zero(k, 3), ad3 = d3.cwiseAbs();
+  const Eigen::MatrixXd d3 = have_last ? Eigen::MatrixXd(wJ - last_) : Eigen::MatrixXd::Zero(k, 3), ad3 = d3.cwiseAbs();
   std::vector<char> negative(static_cast<size_t>(rows), 0);
   long read = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : read)
@@ -181,12 +204,17 @@ std::vector<int> TableCheckSequence::NegativeBins(const Eigen::MatrixXd& wJ, dou
       const bool known = have_last && known_[static_cast<size_t>(u)];
       if (known) check_.SubBound(u, members_, d3.data(), ad3.data(), gain);
       for (Eigen::Index r = u * sub_rows; r < std::min(rows, (u + 1) * sub_rows); ++r) {
-        double* v = &values_[static_cast<size_t>(3 * r)];
-        if (known && v[0] + gain[0] >= 0 && v[1] + gain[1] >= 0 && v[2] + gain[2] >= 0) {
-          for (int c = 0; c < 3; ++c) v[c] += gain[c];  // a lower bound of the value at wJ, ≥ 0
-          continue;
+        float* v = &values_[static_cast<size_t>(3 * r)];
+        double sum[3];
+        if (known) {
+          for (int c = 0; c < 3; ++c) sum[c] = static_cast<double>(v[c]) + gain[c];
+          if (sum[0] >= 0 && sum[1] >= 0 && sum[2] >= 0) {
+            for (int c = 0; c < 3; ++c) v[c] = FloatBelow(sum[c]);  // a lower bound of the value at wJ
+            continue;
+          }
         }
-        negative[static_cast<size_t>(r)] = weights.IsNegative(tables.row(r).data(), v);
+        negative[static_cast<size_t>(r)] = weights.IsNegative(tables.row(r).data(), sum);
+        for (int c = 0; c < 3; ++c) v[c] = FloatBelow(sum[c]);
         ++read;
       }
       known_[static_cast<size_t>(u)] = 1;
