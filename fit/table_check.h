@@ -1,5 +1,5 @@
-// The whole table checked for negative bins, in milliseconds instead of a
-// pass over every bin.
+// The whole table checked for negative bins, in a fraction of a pass over
+// every bin.
 //
 // A fitted BRDF Σ_i w_i b_i is non-negative at the bins its constraint saw
 // (fit/bin_constraints.h), but a table has 1.46 M bins and checking them all
@@ -11,8 +11,10 @@
 //   Σ_i w_i b_i = Σ_i w_i c_i + Σ_i w_i (b_i − c_i) ≥ Σ_i w_i c_i − Σ_i |w_i| d_i,
 // exactly, whatever the signs of the weights: the centres carry the
 // cancellation between bases, only the small deviations are bounded. A block
-// whose bound is ≥ 0 needs no look at its bins; the others are checked bin by
-// bin, as NegativeBins does (the result is the same, to the bin). Bins that
+// whose bound is ≥ 0 needs no look at its bins; in the others each sub-block
+// (a finer summary of the same kind) is bounded in turn, and only the bins of
+// the sub-blocks left are checked bin by bin, as NegativeBins does (the
+// result is the same, to the bin). Bins that
 // are zero in every column (not measured) are left out of the ranges: every
 // BRDF is zero there.
 #pragma once
@@ -59,9 +61,10 @@ class TableCheck {
   // 128 rows (two thirds of a φ_d sweep of the MERL grid) clear most blocks
   // of a well-regularised fit at a read of their summary alone; where the
   // weights cancel more (a fit near least squares) a block's range is too
-  // wide, and its 16-row sub-blocks clear three to six times more of the
-  // bins than the blocks (docs/benchmarks.md) for an eighth of the bins'
-  // reading each. The sub-blocks' summary is an eighth of the tables' size.
+  // wide: on set a's fits the blocks clear 6–69 % of the bins, their 16-row
+  // sub-blocks 41–95 % (docs/benchmarks.md), each for an eighth of what
+  // reading its bins costs. The sub-blocks' summary is an eighth of the
+  // tables' size.
   static constexpr int kDefaultBlockRows = 128;
   static constexpr int kDefaultSubRows = 16;
 
@@ -77,14 +80,14 @@ class TableCheck {
 // Successive checks of one class's weights, each close to the last (a fit
 // solved again with the bins the last check found): a bin whose last value
 // stays ≥ 0 under any change the summary allows is not read again. For the
-// change d = w − w_last, every bin of a block gains at least
+// change d = w − w_last, every bin of a sub-block gains at least
 //   Σ_i d_i c_i − Σ_i |d_i| s_i
-// (the block's bound, for d), so a bin is cleared where its last value plus
-// that is ≥ 0, and keeps that sum as a lower bound of its new value; only the
-// others are read. Adding a few hundred bins to a fit moves its weights by a
-// few per cent, and that clears 60 to 99.9 % of the bins a check of the new
-// weights alone would read (docs/benchmarks.md). The bins returned are those
-// of TableCheck::NegativeBins for the same weights.
+// (the sub-block's bound, for d), so a bin is cleared where its last value
+// plus that is ≥ 0, and keeps that sum as a lower bound of its new value;
+// only the others are read. Adding a few hundred bins to a fit moves its
+// weights by a few per cent: on set a's fits a second check reads a median
+// 1.2 % of the bins where the first read 21 % (docs/benchmarks.md). The bins
+// returned are those of TableCheck::NegativeBins for the same weights.
 class TableCheckSequence {
  public:
   // `check` must outlive the sequence.
@@ -96,7 +99,9 @@ class TableCheckSequence {
   std::vector<int> members_;
   Eigen::MatrixXd last_;  // the weights of the last check (members × 3); empty before the first
   // Per sub-block: whether values_ holds, for each of its bins and channels, a
-  // lower bound of the value at `last_` (exact where the bin was read).
+  // lower bound of the value at `last_` (the value rounded down to a float
+  // where the bin was read). At a bin no material was measured at it may lie
+  // above the value (zero for every BRDF), which no check can find negative.
   std::vector<char> known_;
   // Bins × 3, written only in known sub-blocks. Float, rounded down, halves
   // the 35 MB a table of MERL's size would take in double.
