@@ -137,35 +137,10 @@ Eigen::Index TableCheck::subs() const { return two_levels() ? sub_centre_.rows()
 
 std::vector<int> TableCheck::NegativeBins(const std::vector<int>& members, const Eigen::MatrixXd& wJ,
                                           double* cleared_share) const {
-  const Eigen::Index k = static_cast<Eigen::Index>(members.size());
-  BRDFSHOT_CHECK(wJ.rows() == k && wJ.cols() == 3, "TableCheck: weights are members × 3");
-  for (int m : members) BRDFSHOT_CHECK(m >= 0 && m < tables_.cols(), "TableCheck: member out of range");
-  const Eigen::Index rows = tables_.rows(), blocks = centre_.rows(), per_block = block_rows_ / sub_rows_;
-  const Eigen::MatrixXd& w3 = wJ;
-  const Eigen::MatrixXd aw3 = w3.cwiseAbs();
-  const BinWeights weights(members, wJ);
-  std::vector<char> negative(static_cast<size_t>(rows), 0);
-  long read = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : read)
-  for (Eigen::Index b = 0; b < blocks; ++b) {
-    double bound[3];
-    BlockBound(b, members, w3.data(), aw3.data(), bound);
-    if (AtLeastZero(bound)) continue;
-    for (Eigen::Index u = b * per_block; u < std::min(subs(), (b + 1) * per_block); ++u) {
-      if (two_levels()) {
-        SubBound(u, members, w3.data(), aw3.data(), bound);
-        if (AtLeastZero(bound)) continue;
-      }
-      const Eigen::Index r1 = std::min(rows, (u + 1) * sub_rows_);
-      for (Eigen::Index r = u * sub_rows_; r < r1; ++r)
-        negative[static_cast<size_t>(r)] = weights.IsNegative(tables_.row(r).data());
-      read += r1 - u * sub_rows_;
-    }
-  }
-  if (cleared_share) *cleared_share = rows ? 1.0 - static_cast<double>(read) / static_cast<double>(rows) : 1.0;
-  std::vector<int> out;
-  for (Eigen::Index r = 0; r < rows; ++r)
-    if (negative[static_cast<size_t>(r)]) out.push_back(static_cast<int>(r));
+  // A sequence's first check is exactly this one: no bin has a value kept.
+  double read = 0;
+  std::vector<int> out = TableCheckSequence(*this, members).NegativeBins(wJ, &read);
+  if (cleared_share) *cleared_share = 1.0 - read;
   return out;
 }
 
