@@ -105,10 +105,12 @@ int FitMain(int argc, char** argv) {
   }
   std::printf(
       "\nrelative residual %.4f; solve %.2f ms (after a %.3f s factorisation); whole table checked in %.2f s, "
-      "%d bins off the sample constrained\n"
-      "wrote %s/fit.json, brdf.binary, photo_vs_fit.png and %zu relit previews\n",
+      "%d bins off the sample constrained",
       record.relative_residual, 1000 * record.seconds_solve, record.seconds_factor, record.seconds_table_check,
-      record.negative_bins_added, o.out.c_str(), r.previews.size());
+      record.negative_bins_added);
+  if (record.mean_blend > 0) std::printf(", the rest lifted by a %.2g blend toward the class mean", record.mean_blend);
+  std::printf("\nwrote %s/fit.json, brdf.binary, photo_vs_fit.png and %zu relit previews\n", o.out.c_str(),
+              r.previews.size());
   if (record.lambert_ggx) {
     const LambertGgxFit& g = *record.lambert_ggx;
     std::printf(

@@ -77,6 +77,14 @@ class BinRows {
   std::vector<int> members_;
 };
 
+// The rounds' cap. A round adds at most `bins_per_round` bins, and a
+// weakly regularised class of nearly every basis checked against the whole
+// table holds thousands at once: it takes up to about 45 rounds of 256
+// (docs/benchmarks.md). A solution cut off before the dual converges is the
+// dual's latest iterate, which can lie further below zero, elsewhere, than
+// the unconstrained one; the cap only bounds what a pathological case costs.
+constexpr int kDefaultMaxRounds = 200;
+
 // inverse(): K = (G_JJ + λ_j I)⁺ (k × k), asked for only when some bin is
 // below zero (it costs a k³ product, most fits never need it); w0: the
 // unconstrained solution (k); A: the tables at the sampled bins, over the
@@ -85,7 +93,7 @@ class BinRows {
 // `v0`: A w₀ when the caller has it (one pass for three channels), else computed.
 BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::MatrixXd()>& inverse,
                                                   const Eigen::VectorXd& w0, const BinRows& A, double tolerance = 1e-9,
-                                                  int max_rounds = 30, int bins_per_round = 256,
+                                                  int max_rounds = kDefaultMaxRounds, int bins_per_round = 256,
                                                   const Eigen::VectorXd* v0 = nullptr);
 
 // The same for the channels of one fit (the columns of W0), each with its own
@@ -98,7 +106,7 @@ BinConstrainedSolution ConstrainToNonNegativeBins(const std::function<Eigen::Mat
 // and so the rounds and the result — are those of every bin computed.
 std::vector<BinConstrainedSolution> ConstrainChannelsToNonNegativeBins(
     const std::function<Eigen::MatrixXd(int)>& inverse, const Eigen::MatrixXd& W0, const BinRows& A,
-    double tolerance = 1e-9, int max_rounds = 30, int bins_per_round = 256, const Eigen::MatrixXd* V0 = nullptr);
+    double tolerance = 1e-9, int max_rounds = kDefaultMaxRounds, int bins_per_round = 256, const Eigen::MatrixXd* V0 = nullptr);
 
 // A value Σ_i w_i b_i counts as negative below −kNegativeBinTolerance ·
 // Σ_i |w_i b_i|: beyond the float rounding of the sum, at which a bin the

@@ -749,6 +749,7 @@ TEST(FitRecord, RoundTripsThroughJson) {
   r.sensitivity_penalty = 1;
   r.penalty_gate = 1.5;
   r.min_wedge_share = 1.3e-5;
+  r.mean_blend = 2.5e-4;
   r.parts = {{1, 0.03, 0.75, 0.041, std::nan(""), 0.037}, {2, 1e-4, 0.25, 0.05, std::nan(""), 0.033}};
   const FitRecord back = FitRecord::FromJson(nlohmann::json::parse(r.ToJson().dump()), "fit.json");
   EXPECT_EQ(back.ToJson(), r.ToJson());
@@ -760,11 +761,17 @@ TEST(FitRecord, RoundTripsThroughJson) {
   EXPECT_EQ(back.sensitivity_penalty, 1);
   EXPECT_EQ(back.penalty_gate, 1.5);
   EXPECT_EQ(back.min_wedge_share, 1.3e-5);
+  EXPECT_EQ(back.mean_blend, 2.5e-4);
   // A fit made without the tables has no sensitivity: none is written, and a
   // file without one reads as not measured.
   nlohmann::json unmeasured = r.ToJson();
   unmeasured.erase("prior_sensitivity");
   EXPECT_EQ(FitRecord::FromJson(unmeasured, "fit.json").prior_sensitivity, -1);
+  nlohmann::json unblended = r.ToJson(), overblended = r.ToJson();
+  unblended.erase("class_mean_blend_after_check");
+  EXPECT_EQ(FitRecord::FromJson(unblended, "fit.json").mean_blend, 0);
+  overblended["class_mean_blend_after_check"] = 1.5;  // a blend is a convex combination
+  EXPECT_THROW(FitRecord::FromJson(overblended, "fit.json"), Error);
   EXPECT_TRUE(back.weights == r.weights);
   EXPECT_TRUE(std::isinf(back.classes[2].residual));
   EXPECT_TRUE(std::isinf(back.lambda_scores[2][1]));

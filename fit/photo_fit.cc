@@ -115,8 +115,10 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   if (opt.constraint == WeightConstraint::Kind::kBins)
     for (size_t i = 0; i < out.choice.parts.size(); ++i) {
       const LambdaChoice::Part& part = out.choice.parts[i];
-      out.negative_bins_added += KeepNonNegativeOnTable(f, classes[part.cls], obs, part.lambda, *tables, nullptr,
-                                                        &bins[i], &out.fit.classes[part.cls]);
+      const TableKeep keep = KeepNonNegativeOnTable(f, classes[part.cls], obs, part.lambda, *tables, nullptr,
+                                                    &bins[i], &out.fit.classes[part.cls]);
+      out.negative_bins_added += keep.bins_added;
+      out.mean_blend = std::max(out.mean_blend, keep.largest_mean_blend());
     }
   out.seconds_table_check = check.Seconds();
   out.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(every_basis.size()), 3);
@@ -180,6 +182,7 @@ FitRecord FitRecord::From(const PhotoFit& f, const BasisImages& basis, const std
   r.seconds_solve = f.seconds_solve;
   r.seconds_table_check = f.seconds_table_check;
   r.negative_bins_added = f.negative_bins_added;
+  r.mean_blend = f.mean_blend;
   r.lambert_ggx = f.lambert_ggx;
   r.lobes = f.lobes;
   return r;
@@ -273,6 +276,7 @@ nlohmann::json FitRecord::ToJson() const {
   for (Eigen::Index i = 0; i < weights.rows(); ++i)
     j["weights"].push_back({weights(i, 0), weights(i, 1), weights(i, 2)});
   j["negative_bins_constrained_after_check"] = negative_bins_added;
+  j["class_mean_blend_after_check"] = mean_blend;
   j["seconds"] = {{"factor", seconds_factor}, {"solve", seconds_solve}, {"table_check", seconds_table_check}};
   if (lambert_ggx) j["lambert_ggx"] = lambert_ggx->ToJson(lobes);
   return j;
@@ -341,6 +345,9 @@ FitRecord FitRecord::FromJson(const nlohmann::json& j, const std::string& source
     r.seconds_solve = j.at("seconds").at("solve");
     r.seconds_table_check = j.at("seconds").at("table_check");
     r.negative_bins_added = j.at("negative_bins_constrained_after_check");
+    r.mean_blend = j.value("class_mean_blend_after_check", 0.0);  // absent: no blend
+    if (!(r.mean_blend >= 0 && r.mean_blend <= 1))
+      throw FileError(source, "class_mean_blend_after_check is not in [0, 1]");
     if (j.contains("lambert_ggx")) {
       r.lobes = LambertGgxLobes::FromJson(j.at("lambert_ggx").at("model"), source);
       r.lambert_ggx = LambertGgxFit::FromJson(j.at("lambert_ggx"), r.lobes, source);

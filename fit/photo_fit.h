@@ -46,6 +46,10 @@ struct PhotoFit {
   double seconds_solve = 0;        // the photo's projections, the λ search and the solve
   double seconds_table_check = 0;  // kBins: the whole table checked for bins below zero (and re-solves)
   int negative_bins_added = 0;     // kBins: bins off the sample found below zero and constrained too
+  // kBins: the largest t, over the parts and channels, of the blend toward
+  // the class's mean that lifts what those solves left below zero
+  // (KeepNonNegativeOnTable); 0: none was needed.
+  double mean_blend = 0;
   // How much the fit's BRDF moves when λ moves a decade either way, in the
   // images of a sphere under ConfidenceSuns, and the predicted relit error it
   // gives (fit/fit_confidence.h; the parts' weighted means for a blend);
@@ -116,6 +120,7 @@ struct FitRecord {
   Eigen::MatrixXd weights;  // bases × 3
   double seconds_factor = 0, seconds_solve = 0, seconds_table_check = 0;
   int negative_bins_added = 0;
+  double mean_blend = 0;
   std::optional<LambertGgxFit> lambert_ggx;  // as PhotoFit::lambert_ggx
   LambertGgxLobes lobes;
 

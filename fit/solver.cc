@@ -169,6 +169,20 @@ Eigen::MatrixXd SpectrumInverse(const ClassSpectrum& cls, int c, double lambda_j
 }
 }  // namespace
 
+double ClassResidual(const ClassSpectrum& cls, const Observation& obs, const Eigen::MatrixXd& wJ) {
+  BRDFSHOT_CHECK(wJ.rows() == static_cast<Eigen::Index>(cls.members.size()) && wJ.cols() == 3,
+                 "ClassResidual: weights are members × 3");
+  double residual = 0;
+  for (int c = 0; c < 3; ++c) {
+    const Eigen::VectorXd zJ = obs.z[c](cls.members);
+    const Eigen::VectorXd w = wJ.col(c);
+    // ‖Y_J w − y‖² = wᵀG_JJ w − 2 wᵀz_J + ‖y‖²: accurate to ~1e-16 ‖y‖², ample
+    // for comparing classes.
+    residual += std::max(0.0, w.dot(cls.gram[c] * w) - 2 * w.dot(zJ) + obs.norm2[c]);
+  }
+  return residual;
+}
+
 ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
                          double lambda, const WeightConstraint& constraint) {
   const Eigen::Index n = f[0].gram.rows();
@@ -223,14 +237,8 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
         ConstrainChannelsToNonNegativeBins([&](int c) { return SpectrumInverse(cls, c, lj[c]); }, W, *constraint.bins);
     for (int c = 0; c < 3; ++c) W.col(c) = constrained[c].w;
   }
-  for (int c = 0; c < 3; ++c) {
-    const Eigen::VectorXd zJ = obs.z[c](J);
-    const Eigen::VectorXd w = W.col(c);
-    // ‖Y_J w − y‖² = wᵀG_JJ w − 2 wᵀz_J + ‖y‖²: accurate to ~1e-16 ‖y‖², ample
-    // for comparing classes.
-    s.residual += std::max(0.0, w.dot(cls.gram[c] * w) - 2 * w.dot(zJ) + obs.norm2[c]);
-    for (size_t k = 0; k < J.size(); ++k) s.weights(J[k], c) = w[k];
-  }
+  s.residual = ClassResidual(cls, obs, W);
+  s.weights(J, Eigen::all) = W;
   s.path = constraint.kind == WeightConstraint::Kind::kWeights ? "nonneg-weights"
            : constraint.kind == WeightConstraint::Kind::kBins  ? "nonneg-bins"
            : worst == 2                                        ? "qr"

@@ -148,6 +148,9 @@ struct WeightConstraint {
 // under the bin constraint it is an internal error.
 ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
                          double lambda, const WeightConstraint& constraint = {});
+// Σ_c ‖Y_J w_c − y_c‖² of weights wJ over the class's members (members × 3),
+// from its Gram matrices: ClassSolution::residual.
+double ClassResidual(const ClassSpectrum& cls, const Observation& obs, const Eigen::MatrixXd& wJ);
 
 // w_J = μ' + V diag(1/(e + λ_j)) Vᵀ (z_J − G_JJ μ') for channel c of a class:
 // the normal equations through the class's spectrum, any λ_j ≥ 0 (directions

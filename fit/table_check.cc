@@ -203,9 +203,34 @@ std::vector<int> TableCheckSequence::NegativeBins(const Eigen::MatrixXd& wJ, dou
   return out;
 }
 
-int KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
-                           double lambda, const TablesRef& tables, const TableCheck* check, BinRows* bins,
-                           ClassSolution* s, int max_passes) {
+std::array<double, 3> MeanBlendToNonNegative(const TablesRef& tables, const std::vector<int>& members,
+                                             const Eigen::MatrixXd& wJ, const std::vector<int>& rows) {
+  const Eigen::Index k = static_cast<Eigen::Index>(members.size());
+  BRDFSHOT_CHECK(k > 0 && wJ.rows() == k && wJ.cols() == 3, "MeanBlendToNonNegative: weights are members × 3");
+  std::array<double, 3> t{};
+  for (int r : rows) {
+    BRDFSHOT_CHECK(r >= 0 && r < tables.rows(), "MeanBlendToNonNegative: row out of range");
+    double mean = 0, value[3] = {};
+    for (Eigen::Index i = 0; i < k; ++i) {
+      const double b = tables(r, members[static_cast<size_t>(i)]);
+      mean += b;
+      for (int c = 0; c < 3; ++c) value[c] += wJ(i, c) * b;
+    }
+    mean /= static_cast<double>(k);
+    // (1 − t) v + t m ≥ 0 for t ≥ −v / (m − v); m > 0 wherever v < 0, the
+    // tables being non-negative.
+    for (int c = 0; c < 3; ++c)
+      if (value[c] < 0) t[c] = std::max(t[c], mean > value[c] ? -value[c] / (mean - value[c]) : 1.0);
+  }
+  // A hair more, so that the rounding of the blended sums lands above zero.
+  for (double& x : t)
+    if (x > 0) x = std::min(1.0, x * (1 + 1e-6) + 1e-12);
+  return t;
+}
+
+TableKeep KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls,
+                                 const Observation& obs, double lambda, const TablesRef& tables,
+                                 const TableCheck* check, BinRows* bins, ClassSolution* s, int max_solves) {
   BRDFSHOT_CHECK(bins && s, "KeepNonNegativeOnTable: no bins or solution");
   BRDFSHOT_CHECK(!check || (check->tables().data() == tables.data() && check->tables().rows() == tables.rows() &&
                              check->tables().cols() == tables.cols()),
@@ -213,22 +238,42 @@ int KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpe
   WeightConstraint constraint;
   constraint.kind = WeightConstraint::Kind::kBins;
   constraint.bins = bins;
-  std::unique_ptr<TableCheck> own;  // built at the second pass, when none is given
+  std::unique_ptr<TableCheck> own;  // built at the second check, when none is given
   std::unique_ptr<TableCheckSequence> sequence;
-  int added = 0;
-  for (int pass = 0; pass < max_passes; ++pass) {
-    const Eigen::MatrixXd wJ = s->weights(cls.members, Eigen::all);
+  TableKeep keep;
+  const double k = static_cast<double>(cls.members.size());
+  // A blend lifts every bin it is given to zero or above, and leaves the
+  // others within the tolerance; the check after it confirms that, and a
+  // further blend covers what rounding could leave.
+  constexpr int kMaxBlends = 3;
+  for (int checks = 0, blends = 0;; ++checks) {
+    Eigen::MatrixXd wJ = s->weights(cls.members, Eigen::all);
     // One level: a fit checked once or twice does not repay the sub-blocks'
     // summary (it takes longer to build than a pass over every bin).
-    if (!check && pass > 0) own = std::make_unique<TableCheck>(tables, TableCheck::kDefaultBlockRows, 0), check = own.get();
+    if (!check && checks > 0) own = std::make_unique<TableCheck>(tables, TableCheck::kDefaultBlockRows, 0), check = own.get();
     if (check && !sequence) sequence = std::make_unique<TableCheckSequence>(*check, cls.members);
     const std::vector<int> negative = sequence ? sequence->NegativeBins(wJ) : NegativeBins(tables, cls.members, wJ);
     if (negative.empty()) break;
-    added += static_cast<int>(negative.size());
-    bins->Append(tables, cls.members, negative);
-    *s = SolveClass(f, cls, obs, lambda, constraint);
+    if (keep.solves < max_solves) {
+      keep.bins_added += static_cast<int>(negative.size());
+      bins->Append(tables, cls.members, negative);
+      *s = SolveClass(f, cls, obs, lambda, constraint);
+      ++keep.solves;
+      continue;
+    }
+    BRDFSHOT_CHECK(blends < kMaxBlends, "KeepNonNegativeOnTable: " << negative.size()
+                                                                   << " bins stay below zero after blending toward "
+                                                                      "the class's mean");
+    ++blends;
+    const std::array<double, 3> t = MeanBlendToNonNegative(tables, cls.members, wJ, negative);
+    for (int c = 0; c < 3; ++c) {
+      wJ.col(c) = (1 - t[c]) * wJ.col(c).array() + t[c] / k;
+      keep.mean_blend[c] = 1 - (1 - keep.mean_blend[c]) * (1 - t[c]);  // blends compose
+    }
+    s->weights(cls.members, Eigen::all) = wJ;
+    s->residual = ClassResidual(cls, obs, wJ);
   }
-  return added;
+  return keep;
 }
 
 }  // namespace brdfshot

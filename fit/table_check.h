@@ -20,6 +20,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -108,16 +110,41 @@ class TableCheckSequence {
   std::unique_ptr<float[]> values_;
 };
 
+// Per channel, the least t in [0, 1] for which (1 − t) w + t μ' is at least
+// zero at each of `rows` (table rows), μ' the class's mean (1/k on each of
+// the k `members`), wJ the fit's weights over the members (members × 3); 0
+// for a channel that is not below zero there. The mean is non-negative at
+// every bin (the tables are), so the blend is non-negative wherever w is, and
+// a bin within the check's tolerance stays within it: lifting the bins found
+// below zero lifts the whole table. It is also where a larger λ pulls the
+// fit (the prior), so the blend is a little more of the same regularisation.
+std::array<double, 3> MeanBlendToNonNegative(const TablesRef& tables, const std::vector<int>& members,
+                                             const Eigen::MatrixXd& wJ, const std::vector<int>& rows);
+
+// What KeepNonNegativeOnTable did to a fit.
+struct TableKeep {
+  int bins_added = 0;  // bins found below zero and constrained
+  int solves = 0;      // the class solved again with them
+  // Per channel: the t of the blend toward the class's mean
+  // (MeanBlendToNonNegative) that lifts what the solves left below zero;
+  // 0 where they left nothing.
+  std::array<double, 3> mean_blend{};
+  double largest_mean_blend() const { return std::max({mean_blend[0], mean_blend[1], mean_blend[2]}); }
+};
+
 // `s`: class `cls` solved at `lambda` under the constraint of `bins` (its
 // sampled rows, SolveClass with WeightConstraint::Kind::kBins). The whole of
 // `tables` is checked: bins found below zero join `bins` and the class is
-// solved again, up to `max_passes` checks. `check`: a TableCheck of
-// `tables`, where the caller checks many fits; without one the first pass
-// reads every bin (cheaper than building a summary, and most fits need no
-// second pass) and a summary is built only for a second. Returns the number
-// of bins added.
-int KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
-                           double lambda, const TablesRef& tables, const TableCheck* check, BinRows* bins,
-                           ClassSolution* s, int max_passes = 4);
+// solved again, up to `max_solves` times. Each solve with a check's bins
+// leaves far fewer (bins next to those it holds at zero dip a little), but
+// rarely none: what the solves leave, a hair below zero, the blend toward
+// the class's mean lifts; on return the BRDF is
+// non-negative at every bin of `tables`. `check`: a TableCheck of `tables`,
+// where the caller checks many fits; without one the first check reads every
+// bin (cheaper than building a summary, and most fits need no second check)
+// and a summary is built only for a second.
+TableKeep KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls,
+                                 const Observation& obs, double lambda, const TablesRef& tables,
+                                 const TableCheck* check, BinRows* bins, ClassSolution* s, int max_solves = 2);
 
 }  // namespace brdfshot

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <utility>
@@ -119,6 +120,101 @@ TEST(TableCheck, NonNegativeWeightsOnASmoothTableNeedFewBinsLookedAt) {
   double cleared = 0;
   EXPECT_TRUE(TableCheck(t, 32).NegativeBins(members, w, &cleared).empty());
   EXPECT_GT(cleared, 0.9);
+}
+
+// Per channel, the least t with every given bin of (1 − t) w + t μ' at or
+// above zero, against a bisection on the blended values in double; a channel
+// not below zero there is left alone.
+TEST(MeanBlend, IsTheLeastBlendThatLiftsTheBinsAndItLiftsTheWholeTable) {
+  const MatrixXfR t = SmoothTable(1024, 10, 21);
+  const std::vector<int> members = Members(10, 1);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g;
+  Eigen::MatrixXd w(10, 3);
+  for (Eigen::Index i = 0; i < w.size(); ++i) w(i) = 0.1 + g(rng);
+  w.col(2) = w.col(2).cwiseAbs();  // non-negative weights: nothing to lift
+  const std::vector<int> negative = NegativeBins(t, members, w);
+  ASSERT_GT(negative.size(), 10u) << "the weights must go negative for the test to mean anything";
+  const std::array<double, 3> blend = MeanBlendToNonNegative(t, members, w, negative);
+  const Eigen::MatrixXd dense = t.cast<double>();
+  const auto lowest = [&](int c, double x) {
+    const Eigen::VectorXd v = (1 - x) * w.col(c).array() + x / 10.0;
+    double m = std::numeric_limits<double>::infinity();
+    for (int r : negative) m = std::min(m, dense.row(r).dot(v));
+    return m;
+  };
+  for (int c = 0; c < 2; ++c) {
+    double lo = 0, hi = 1;
+    for (int it = 0; it < 100; ++it) ((lowest(c, 0.5 * (lo + hi)) < 0) ? lo : hi) = 0.5 * (lo + hi);
+    EXPECT_GE(blend[c], hi) << "channel " << c;
+    EXPECT_LE(blend[c], hi * (1 + 1e-5) + 1e-11) << "channel " << c;
+    EXPECT_GT(blend[c], 0.01) << "channel " << c;
+  }
+  EXPECT_EQ(blend[2], 0);
+  Eigen::MatrixXd lifted = w;
+  for (int c = 0; c < 3; ++c) lifted.col(c) = (1 - blend[c]) * w.col(c).array() + blend[c] / 10.0;
+  EXPECT_TRUE(NegativeBins(t, members, lifted).empty());
+}
+
+// A class whose fit dips below zero between the sampled bins: after
+// KeepNonNegativeOnTable no bin of the table is below zero, with or without
+// a check given, by solves with the bins found or, with no solve allowed, by
+// the blend toward the class's mean alone; the residual is the blended
+// weights' own.
+TEST(KeepNonNegativeOnTable, LeavesNoBinOfTheTableBelowZero) {
+  constexpr int kBases = 12, kPixels = 400;
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> u(0.1f, 1.0f);
+  std::array<MatrixXfR, 3> Y;
+  for (int c = 0; c < 3; ++c) {
+    Y[c].resize(kPixels, kBases);
+    for (Eigen::Index i = 0; i < Y[c].size(); ++i) Y[c].data()[i] = u(rng);
+  }
+  const auto render = [&](const Eigen::MatrixXd& w) {
+    Eigen::MatrixXd y(kPixels, 3);
+    for (int c = 0; c < 3; ++c) y.col(c) = Y[c].cast<double>() * w.col(c);
+    return y;
+  };
+  // A difference of bases, as a material outside the database is.
+  Eigen::MatrixXd truth = Eigen::MatrixXd::Constant(kBases, 3, 0.15);
+  truth.row(4).setConstant(-0.9);
+  truth.row(7).setConstant(-0.6);
+  const Eigen::MatrixXd y = render(truth);
+  const auto f = FactorBasisImages(Y, true);
+  const std::vector<int> members = Members(kBases, 1);
+  const ClassSpectrum cls = FactorClasses(f, {members})[0];
+  const Observation obs = MakeObservation(f, Y, y);
+  const MatrixXfR tables = SmoothTable(4096, kBases, 3);
+  ASSERT_FALSE(NegativeBins(tables, members, truth).empty());
+  const TableCheck given(tables, 64, 16);
+  for (const int max_solves : {3, 0})
+    for (const TableCheck* check : {static_cast<const TableCheck*>(nullptr), &given}) {
+      SCOPED_TRACE(testing::Message() << "max_solves " << max_solves << (check ? ", a check given" : ""));
+      BinRows bins = BinRows::EveryNth(tables, members, 97);
+      WeightConstraint constraint;
+      constraint.kind = WeightConstraint::Kind::kBins;
+      constraint.bins = &bins;
+      ClassSolution s = SolveClass(f, cls, obs, 1e-6, constraint);
+      const Eigen::MatrixXd sampled = s.weights;
+      ASSERT_FALSE(NegativeBins(tables, members, sampled).empty()) << "the sample must miss bins below zero";
+      const TableKeep keep = KeepNonNegativeOnTable(f, cls, obs, 1e-6, tables, check, &bins, &s, max_solves);
+      EXPECT_TRUE(NegativeBins(tables, members, s.weights).empty());
+      EXPECT_LE(keep.solves, max_solves);
+      EXPECT_NEAR(s.residual, (render(s.weights) - y).squaredNorm(), 1e-9 * y.squaredNorm());
+      if (max_solves == 0) {
+        EXPECT_EQ(keep.bins_added, 0);
+        EXPECT_GT(keep.largest_mean_blend(), 0);
+        for (int c = 0; c < 3; ++c)
+          EXPECT_LT((s.weights.col(c) - ((1 - keep.mean_blend[c]) * sampled.col(c).array() + keep.mean_blend[c] / kBases)
+                                            .matrix())
+                        .norm(),
+                    1e-12)
+              << "channel " << c;
+      } else {
+        EXPECT_GT(keep.solves, 0);
+        EXPECT_GT(keep.bins_added, 0);
+      }
+    }
 }
 
 TEST(TableCheck, RefusesWeightsOfTheWrongShapeAndMembersOutOfRange) {
