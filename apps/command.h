@@ -25,10 +25,13 @@ const std::vector<Command>& Commands();
 std::string CommandLine(int argc, char** argv);
 
 // Parses argv against `desc` (plus --help). Returns false after printing help,
-// throws brdfshot::Error with the parser's message on a bad option.
+// throws brdfshot::Error with the parser's message on a bad option. `given`,
+// where asked for: the long names of the options given, in command-line order
+// (what pairs the n-th of one repeated option with the n-th of another).
 bool ParseOptions(const std::string& command, const std::string& usage,
                   boost::program_options::options_description& desc, int argc, char** argv,
-                  boost::program_options::positional_options_description* positional = nullptr);
+                  boost::program_options::positional_options_description* positional = nullptr,
+                  std::vector<std::string>* given = nullptr);
 
 int SynthDbMain(int argc, char** argv);
 int SynthCaptureMain(int argc, char** argv);

@@ -59,7 +59,7 @@ std::string CommandLine(int argc, char** argv) {
 }
 
 bool ParseOptions(const std::string& command, const std::string& usage, po::options_description& desc, int argc,
-                  char** argv, po::positional_options_description* positional) {
+                  char** argv, po::positional_options_description* positional, std::vector<std::string>* given) {
   // clang-format off
   desc.add_options()("help,h", "show this help");
   // clang-format on
@@ -74,7 +74,10 @@ bool ParseOptions(const std::string& command, const std::string& usage, po::opti
     po::command_line_parser parser(argc, argv);
     parser.options(desc);
     if (positional) parser.positional(*positional);
-    po::store(parser.run(), vm);
+    const po::parsed_options parsed = parser.run();
+    if (given)
+      for (const po::option& o : parsed.options) given->push_back(o.string_key);
+    po::store(parsed, vm);
     if (vm.count("help")) {
       std::cout << "usage: brdfshot " << command << " " << usage << "\n\n" << desc << "\n";
       return false;

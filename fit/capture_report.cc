@@ -49,7 +49,8 @@ std::vector<std::pair<std::string, double>> StageTimes(const std::string& path) 
     std::string w, cmd, out, prev;
     words >> w >> cmd;
     while (words >> w) {
-      if (prev == "-o" || prev == "--out") out = fs::path(w).filename().string();
+      // Every output a command names (render writes one per BRDF).
+      if (prev == "-o" || prev == "--out") out += (out.empty() ? "" : ", ") + fs::path(w).filename().string();
       prev = w;
     }
     const std::string key = cmd + (out.empty() ? "" : " → " + out);

@@ -25,23 +25,26 @@ std::string Slurp(const fs::path& p) {
 }  // namespace
 
 // A make re-run logs a stage again: its later time replaces the earlier one,
-// in the order stages were first seen; the output named by -o or --out tells
-// two runs of one command apart.
+// in the order stages were first seen; the outputs named by -o or --out
+// (all of them, for a command that writes several) tell two runs of one
+// command apart.
 TEST(CaptureReport, StageTimesKeepTheLastRunOfEachStage) {
   const fs::path log = fs::temp_directory_path() / "brdfshot_report_times.tsv";
   std::ofstream(log) << "1.5\tbrdfshot merge photo -o r/photo.exr\n"
                      << "2.0\tbrdfshot merge probe --probe --out r/probe_hdr.exr\n"
                      << "not a time line\n"
                      << "0.5\tbrdfshot merge photo -o r/photo.exr\n"
-                     << "3.25\tbrdfshot fit --basis b -o r/fit\n";
+                     << "3.25\tbrdfshot fit --basis b -o r/fit\n"
+                     << "0.75\tbrdfshot render --probe p --merl a -o r/a.exr --merl b -o r/b.exr\n";
   const auto rows = StageTimes(log.string());
   fs::remove(log);
-  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0].first, "merge → photo.exr");
   EXPECT_EQ(rows[0].second, 0.5);
   EXPECT_EQ(rows[1].first, "merge → probe_hdr.exr");
   EXPECT_EQ(rows[2].first, "fit → fit");
   EXPECT_EQ(rows[2].second, 3.25);
+  EXPECT_EQ(rows[3].first, "render → a.exr, b.exr");
 }
 
 // A fit relit at half the truth's radiance is off by exactly 0.5 in relative

@@ -393,24 +393,38 @@ std::vector<std::vector<std::array<MatrixXfR, 3>>> TransportOperator::ApplyAll(
   });
 }
 
-Eigen::MatrixXd TransportOperator::Render(const MerlBrdf& brdf) const {
-  BRDFSHOT_CHECK(brdf.grid() == grid_, "BRDF grid differs from the operator's grid");
-  const auto Y = ApplyImpl({this}, {3}, [&](const std::vector<TablePoint>& pts, float* out) {
-    // Unmeasured entries read as 0, exactly as the basis matrix stores them, so
-    // rendering a table and applying the operator to its columns agree.
-    double acc[3] = {0, 0, 0};
-    for (const TablePoint& pt : pts) {
-      size_t idx[8];
-      double w[8];
-      const int k = grid_.TrilinearCorners(pt.hd, idx, w);
-      for (int a = 0; a < k; ++a)
-        for (int c = 0; c < 3; ++c) acc[c] += pt.weight * w[a] * std::max(0.0, brdf.Value(c, idx[a]));
-    }
-    for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(acc[c]);
-  }).front().front();
-  Eigen::MatrixXd y(pixels(), 3);
-  for (int c = 0; c < 3; ++c) y.col(c) = Y[c].col(c).cast<double>();
-  return y;
+Eigen::MatrixXd TransportOperator::Render(const MerlBrdf& brdf) const { return RenderAll({&brdf}).front(); }
+
+std::vector<Eigen::MatrixXd> TransportOperator::RenderAll(const std::vector<const MerlBrdf*>& brdfs) const {
+  for (const MerlBrdf* b : brdfs) BRDFSHOT_CHECK(b && b->grid() == grid_, "BRDF grid differs from the operator's grid");
+  const size_t count = brdfs.size();
+  const auto Y = ApplyImpl({this}, std::vector<Eigen::Index>(count, 3),
+                           [&, acc = std::vector<double>(3 * count)](const std::vector<TablePoint>& pts,
+                                                                     float* out) mutable {
+                             // Unmeasured entries read as 0, exactly as the basis matrix
+                             // stores them, so rendering a table and applying the operator
+                             // to its columns agree.
+                             std::fill(acc.begin(), acc.end(), 0.0);
+                             for (const TablePoint& pt : pts) {
+                               size_t idx[8];
+                               double w[8];
+                               const int k = grid_.TrilinearCorners(pt.hd, idx, w);
+                               for (int a = 0; a < k; ++a)
+                                 for (size_t t = 0; t < count; ++t)
+                                   for (int c = 0; c < 3; ++c)
+                                     acc[3 * t + static_cast<size_t>(c)] +=
+                                         pt.weight * w[a] * std::max(0.0, brdfs[t]->Value(c, idx[a]));
+                             }
+                             for (size_t i = 0; i < 3 * count; ++i) out[i] = static_cast<float>(acc[i]);
+                           })
+                     .front();
+  std::vector<Eigen::MatrixXd> images;
+  for (size_t t = 0; t < count; ++t) {
+    Eigen::MatrixXd y(pixels(), 3);
+    for (int c = 0; c < 3; ++c) y.col(c) = Y[t][c].col(c).cast<double>();
+    images.push_back(std::move(y));
+  }
+  return images;
 }
 
 }  // namespace brdfshot

@@ -111,6 +111,9 @@ class TransportOperator {
   bool SharesTableReadsWith(const TransportOperator& other) const;
   // Image of one tabulated BRDF (channel c under light channel c): pixels × 3.
   Eigen::MatrixXd Render(const MerlBrdf& brdf) const;
+  // Render of each BRDF (all on the operator's grid), in one pass: the
+  // lighting per sample, most of a render's time, is looked up once for all.
+  std::vector<Eigen::MatrixXd> RenderAll(const std::vector<const MerlBrdf*>& brdfs) const;
 
  private:
   struct Sample {

@@ -109,6 +109,43 @@ TEST(Transport, RenderingAWeightVectorEqualsYTimesW) {
   }
 }
 
+// Several BRDFs rendered in one pass: each image is what a render of that
+// BRDF alone gives (to float rounding), and a Lambertian one under a constant
+// probe is its albedo times the radiance; a BRDF on another grid is refused.
+TEST(Transport, RenderingSeveralBrdfsAtOnceGivesEachItsOwnImage) {
+  const MerlGrid grid{45, 45, 90};
+  const PixelGeometry g = OrthographicSphere(32, 75);
+  cv::Mat img(32, 64, CV_32FC3);
+  cv::randu(img, 0.5, 3);
+  StandinMaterial metal;
+  metal.family = "metal";
+  metal.ks1 = 1.0;
+  metal.alpha1 = 0.05;
+  metal.f0[0] = 0.9, metal.f0[1] = 0.6, metal.f0[2] = 0.3;
+  const MerlBrdf a = Lambert(grid, 0.6), b = metal.ToMerl(grid), c = Lambert(grid, 0.2);
+  for (const bool constant : {true, false}) {
+    const TransportOperator t =
+        TransportOperator::Build(g, constant ? Constant(64, 2.0f) : LatLongProbe(img.clone()), grid, RenderQuality{});
+    const std::vector<Eigen::MatrixXd> all = t.RenderAll({&a, &b, &c});
+    ASSERT_EQ(all.size(), 3u);
+    const MerlBrdf* brdfs[] = {&a, &b, &c};
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::MatrixXd alone = t.Render(*brdfs[i]);
+      ASSERT_EQ(all[i].rows(), alone.rows());
+      EXPECT_LT((all[i] - alone).norm(), 1e-6 * alone.norm()) << "BRDF " << i << (constant ? ", constant probe" : "");
+    }
+    if (constant)
+      for (Eigen::Index p = 0; p < all[0].rows(); ++p)
+        for (int ch = 0; ch < 3; ++ch) {
+          EXPECT_NEAR(all[0](p, ch), 0.6 * 2.0, 0.01 * 1.2) << "pixel " << p;
+          EXPECT_NEAR(all[2](p, ch), 0.2 * 2.0, 0.01 * 0.4) << "pixel " << p;
+        }
+  }
+  const MerlBrdf other = Lambert(MerlGrid{30, 30, 60}, 0.5);
+  const TransportOperator t = TransportOperator::Build(g, Constant(64, 1.0f), grid, RenderQuality{});
+  EXPECT_THROW(t.RenderAll({&a, &other}), std::logic_error);
+}
+
 // Sharing the table reads is only a reordering of the work: each operator's
 // images are those it renders alone, for different pixels, probes and suns.
 TEST(Transport, ApplyingSeveralOperatorsAtOnceGivesEachItsOwnImages) {

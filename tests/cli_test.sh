@@ -84,6 +84,19 @@ check basis-other 0 "wrote" -- "$B" basis $DB --probe "$P2" --sphere 48 -o "$T/b
 check score 0 "held-out photo" -- "$B" score --fit "$T/fit/fit.json" --basis "$T/b2.bsbi" --photo "$T/photo2.exr"
 line=$("$B" score --fit "$T/fit/fit.json" --basis "$T/b2.bsbi" --photo "$T/photo2.exr" --tsv)
 "$B" render --merl "$T/fit/lambert_ggx.binary" --probe "$P2" --sphere 48 -o "$T/lggx2.exr" >/dev/null 2>&1
+# Several BRDFs in one render: each image is its own render's; the outputs
+# pair with the BRDFs in the order given, one each, and never an input.
+L="$T/fit/lambert_ggx.binary"
+check render-two 0 "2 BRDFs" -- "$B" render --probe "$P2" --sphere 48 --standin demo-steel $DB -o "$T/two_steel.exr" --merl "$L" -o "$T/two_lggx.exr"
+for pair in "photo2.exr two_steel.exr" "lggx2.exr two_lggx.exr"; do
+  set -- $pair
+  e=$("$B" compare "$T/$1" "$T/$2" | sed 's/relative RMSE \([0-9.]*\).*/\1/')
+  awk -v e="$e" 'BEGIN{exit !(e < 1e-4)}' && pass=$((pass+1)) || { echo "FAIL render of two: $2 against $1: $e"; fail=$((fail+1)); }
+done
+check render-outputs 1 "give one -o per BRDF: 2 BRDFs, 1 outputs" -- "$B" render --probe "$P2" --standin demo-steel $DB --merl "$L" -o "$T/x.exr"
+cp "$L" "$T/lggx.orig"
+check render-onto-input 1 "lambert_ggx.binary: is an input of this render" -- "$B" render --probe "$P2" --merl "$L" -o "$L"
+cmp -s "$L" "$T/lggx.orig" && pass=$((pass+1)) || { echo "FAIL render overwrote its input"; fail=$((fail+1)); }
 lg=$("$B" compare "$T/photo2.exr" "$T/lggx2.exr" | sed 's/relative RMSE \([0-9.]*\).*/\1/')
 awk -v f="$(cut -f4 <<<"$line")" -v s="$(cut -f6 <<<"$line")" -v c="$lg" 'BEGIN{exit !(f < 0.05 && c > 0.005 && s > 0.8 * c && s < 1.2 * c)}' \
   && pass=$((pass+1)) || { echo "FAIL score $line against render + compare $lg"; fail=$((fail+1)); }
