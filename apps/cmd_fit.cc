@@ -42,7 +42,7 @@ struct FitArgs {
          "what the fit keeps non-negative: bins (the BRDF at every 31st bin; default), weights (every weight ≥ 0: "
          "non-negative everywhere, but relights worse), none")
         ("out,o", po::value(&out)->default_value(out), "output folder")
-        ("preview-probes", po::value(&previews), "probes to relight the result under (default: two of <data>/envmaps)");
+        ("preview-probes", po::value(&previews), "probes to relight the result under (default: two of <data>/envmaps; none: no relit previews, e.g. where a render stage follows)");
     // clang-format on
     AddConditionBoundOptions(desc, &fo.lambda);
     db.Add(desc);
@@ -70,7 +70,7 @@ struct FitArgs {
       throw Error("fit: give one --photo or --obs file per --basis file (" + std::to_string(o.basis.size()) + ")");
     o.classes = classes_path, o.out = out;
     o.database = db.ToOptions(false);
-    o.preview_probes = ResolveProbes(previews, db.data);
+    if (previews != "none") o.preview_probes = ResolveProbes(previews, db.data);
     o.preview_quality = quality.q;
     return o;
   }

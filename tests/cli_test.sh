@@ -185,6 +185,8 @@ check remap-hugewidth 1 "wide.json: 'width' must be an integer from 1 to 1048576
 check remap-notjson 1 "bad.binary: not JSON" -- "$B" remap --photo "$T/padded.exr" --sphere "$T/bad.binary" -o "$T/obs2.bsobs"
 check basis-obs 0 "wrote" -- "$B" basis $DB --probe "$T/probe.exr" --obs "$T/obs.bsobs" -o "$T/bo.bsbi"
 check fit-obs 0 "chosen class" -- "$B" fit $DB --basis "$T/bo.bsbi" --obs "$T/obs.bsobs" --classes "$T/c.json" --preview-probes "$PROBE" -o "$T/fito"
+check fit-no-previews 0 "and 0 relit previews" -- "$B" fit $DB --basis "$T/bo.bsbi" --obs "$T/obs.bsobs" --classes "$T/c.json" --preview-probes none -o "$T/fitn"
+[ -s "$T/fitn/photo_vs_fit.png" ] && ! ls "$T/fitn"/relit_*.png >/dev/null 2>&1 && pass=$((pass+1)) || { echo "FAIL --preview-probes none wrote relit previews"; fail=$((fail+1)); }
 check fit-obs-mismatch 1 "are not the ones" -- "$B" fit $DB --basis "$T/b.bsbi" --obs "$T/obs.bsobs" --classes "$T/c.json" -o "$T/fito2"
 check fit-both 1 "exactly one of --photo and --obs" -- "$B" fit $DB --basis "$T/b.bsbi" --obs "$T/obs.bsobs" --photo "$T/photo.exr" --classes "$T/c.json" -o "$T/fito3"
 check obs-bad 1 "bad.binary: not a brdfshot observation file" -- "$B" basis $DB --probe "$PROBE" --obs "$T/bad.binary" -o "$T/bo2.bsbi"
