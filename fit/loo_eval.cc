@@ -299,8 +299,10 @@ ClassSolution SolveAuto(const LooInputs& in, WeightConstraint::Kind kind, const 
     constraint.bins = bins;
   }
   ClassSolution s = SolveClass(f, cls, obs, lambda, constraint);
-  if (bins && in.table_check)
-    KeepNonNegativeOnTable(f, cls, obs, lambda, in.table_check->tables(), in.table_check, bins, &s);
+  if (bins && in.table_check) {
+    TableCheckSource checks(in.table_check->tables(), in.table_check);
+    KeepNonNegativeOnTable(f, cls, obs, lambda, &checks, bins, &s);
+  }
   return s;
 }
 

@@ -112,14 +112,16 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   Stopwatch check;
   // The bins between the sampled ones: the whole table is checked, and any
   // that dip below zero join the constrained bins for another solve.
-  if (opt.constraint == WeightConstraint::Kind::kBins)
+  if (opt.constraint == WeightConstraint::Kind::kBins) {
+    TableCheckSource checks(*tables);  // a summary built for one part serves the next
     for (size_t i = 0; i < out.choice.parts.size(); ++i) {
       const LambdaChoice::Part& part = out.choice.parts[i];
-      const TableKeep keep = KeepNonNegativeOnTable(f, classes[part.cls], obs, part.lambda, *tables, nullptr,
-                                                    &bins[i], &out.fit.classes[part.cls]);
+      const TableKeep keep =
+          KeepNonNegativeOnTable(f, classes[part.cls], obs, part.lambda, &checks, &bins[i], &out.fit.classes[part.cls]);
       out.negative_bins_added += keep.bins_added;
       out.mean_blend = std::max(out.mean_blend, keep.largest_mean_blend());
     }
+  }
   out.seconds_table_check = check.Seconds();
   out.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(every_basis.size()), 3);
   for (const LambdaChoice::Part& part : out.choice.parts)

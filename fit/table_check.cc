@@ -228,17 +228,25 @@ std::array<double, 3> MeanBlendToNonNegative(const TablesRef& tables, const std:
   return t;
 }
 
+TableCheckSource::TableCheckSource(const TablesRef& tables, const TableCheck* given)
+    : tables_(MapOf(tables)), given_(given) {
+  BRDFSHOT_CHECK(!given || (given->tables().data() == tables.data() && given->tables().rows() == tables.rows() &&
+                            given->tables().cols() == tables.cols()),
+                 "TableCheckSource: the summary is of other tables");
+}
+
+const TableCheck& TableCheckSource::Summary() {
+  if (!summary()) built_ = std::make_unique<TableCheck>(tables_, TableCheck::kDefaultBlockRows, 0);
+  return *summary();
+}
+
 TableKeep KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls,
-                                 const Observation& obs, double lambda, const TablesRef& tables,
-                                 const TableCheck* check, BinRows* bins, ClassSolution* s, int max_solves) {
-  BRDFSHOT_CHECK(bins && s, "KeepNonNegativeOnTable: no bins or solution");
-  BRDFSHOT_CHECK(!check || (check->tables().data() == tables.data() && check->tables().rows() == tables.rows() &&
-                             check->tables().cols() == tables.cols()),
-                 "KeepNonNegativeOnTable: the check is of other tables");
+                                 const Observation& obs, double lambda, TableCheckSource* checks, BinRows* bins,
+                                 ClassSolution* s, int max_solves) {
+  BRDFSHOT_CHECK(checks && bins && s, "KeepNonNegativeOnTable: no checks, bins or solution");
   WeightConstraint constraint;
   constraint.kind = WeightConstraint::Kind::kBins;
   constraint.bins = bins;
-  std::unique_ptr<TableCheck> own;  // built at the second check, when none is given
   std::unique_ptr<TableCheckSequence> sequence;
   TableKeep keep;
   const double k = static_cast<double>(cls.members.size());
@@ -246,17 +254,16 @@ TableKeep KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const Cl
   // others within the tolerance; the check after it confirms that, and a
   // further blend covers what rounding could leave.
   constexpr int kMaxBlends = 3;
-  for (int checks = 0, blends = 0;; ++checks) {
+  for (int n = 0, blends = 0;; ++n) {
     Eigen::MatrixXd wJ = s->weights(cls.members, Eigen::all);
-    // One level: a fit checked once or twice does not repay the sub-blocks'
-    // summary (it takes longer to build than a pass over every bin).
-    if (!check && checks > 0) own = std::make_unique<TableCheck>(tables, TableCheck::kDefaultBlockRows, 0), check = own.get();
-    if (check && !sequence) sequence = std::make_unique<TableCheckSequence>(*check, cls.members);
-    const std::vector<int> negative = sequence ? sequence->NegativeBins(wJ) : NegativeBins(tables, cls.members, wJ);
+    if (!sequence && (checks->summary() || n > 0))
+      sequence = std::make_unique<TableCheckSequence>(checks->Summary(), cls.members);
+    const std::vector<int> negative =
+        sequence ? sequence->NegativeBins(wJ) : NegativeBins(checks->tables(), cls.members, wJ);
     if (negative.empty()) break;
     if (keep.solves < max_solves) {
       keep.bins_added += static_cast<int>(negative.size());
-      bins->Append(tables, cls.members, negative);
+      bins->Append(checks->tables(), cls.members, negative);
       *s = SolveClass(f, cls, obs, lambda, constraint);
       ++keep.solves;
       continue;
@@ -265,7 +272,7 @@ TableKeep KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const Cl
                                                                    << " bins stay below zero after blending toward "
                                                                       "the class's mean");
     ++blends;
-    const std::array<double, 3> t = MeanBlendToNonNegative(tables, cls.members, wJ, negative);
+    const std::array<double, 3> t = MeanBlendToNonNegative(checks->tables(), cls.members, wJ, negative);
     for (int c = 0; c < 3; ++c) {
       wJ.col(c) = (1 - t[c]) * wJ.col(c).array() + t[c] / k;
       keep.mean_blend[c] = 1 - (1 - keep.mean_blend[c]) * (1 - t[c]);  // blends compose

@@ -132,19 +132,39 @@ struct TableKeep {
   double largest_mean_blend() const { return std::max({mean_blend[0], mean_blend[1], mean_blend[2]}); }
 };
 
+// The summary the whole-table checks of `tables` read: one given (an
+// evaluation builds it once for all its fits), or one built at the first
+// check that needs it and kept for the next (the parts of one fit check the
+// same tables). Without one a check reads every bin: cheaper than building a
+// summary for a fit checked once, which most are.
+class TableCheckSource {
+ public:
+  // `tables` (and `given`, where given, a summary of them) must outlive it.
+  explicit TableCheckSource(const TablesRef& tables, const TableCheck* given = nullptr);
+  const TablesMap& tables() const { return tables_; }
+  const TableCheck* summary() const { return given_ ? given_ : built_.get(); }
+  // The summary, built now where there is none: the blocks' level alone (a
+  // fit checked a few times does not repay the sub-blocks', which takes
+  // longer to build than a pass over every bin).
+  const TableCheck& Summary();
+
+ private:
+  const TablesMap tables_;
+  const TableCheck* given_;
+  std::unique_ptr<TableCheck> built_;
+};
+
 // `s`: class `cls` solved at `lambda` under the constraint of `bins` (its
 // sampled rows, SolveClass with WeightConstraint::Kind::kBins). The whole of
-// `tables` is checked: bins found below zero join `bins` and the class is
-// solved again, up to `max_solves` times. Each solve with a check's bins
-// leaves far fewer (bins next to those it holds at zero dip a little), but
-// rarely none: what the solves leave, a hair below zero, the blend toward
-// the class's mean lifts; on return the BRDF is
-// non-negative at every bin of `tables`. `check`: a TableCheck of `tables`,
-// where the caller checks many fits; without one the first check reads every
-// bin (cheaper than building a summary, and most fits need no second check)
-// and a summary is built only for a second.
+// the tables of `checks` is checked: bins found below zero join `bins` and
+// the class is solved again, up to `max_solves` times. Each solve with a
+// check's bins leaves far fewer (bins next to those it holds at zero dip a
+// little), but rarely none: what the solves leave, a hair below zero, the
+// blend toward the class's mean lifts; on return the BRDF is non-negative at
+// every bin of the tables. A fit's first check reads every bin unless
+// `checks` has a summary; a second check builds one there.
 TableKeep KeepNonNegativeOnTable(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls,
-                                 const Observation& obs, double lambda, const TablesRef& tables,
-                                 const TableCheck* check, BinRows* bins, ClassSolution* s, int max_solves = 2);
+                                 const Observation& obs, double lambda, TableCheckSource* checks, BinRows* bins,
+                                 ClassSolution* s, int max_solves = 2);
 
 }  // namespace brdfshot

@@ -197,7 +197,8 @@ TEST(KeepNonNegativeOnTable, LeavesNoBinOfTheTableBelowZero) {
       ClassSolution s = SolveClass(f, cls, obs, 1e-6, constraint);
       const Eigen::MatrixXd sampled = s.weights;
       ASSERT_FALSE(NegativeBins(tables, members, sampled).empty()) << "the sample must miss bins below zero";
-      const TableKeep keep = KeepNonNegativeOnTable(f, cls, obs, 1e-6, tables, check, &bins, &s, max_solves);
+      TableCheckSource checks(tables, check);
+      const TableKeep keep = KeepNonNegativeOnTable(f, cls, obs, 1e-6, &checks, &bins, &s, max_solves);
       EXPECT_TRUE(NegativeBins(tables, members, s.weights).empty());
       EXPECT_LE(keep.solves, max_solves);
       EXPECT_NEAR(s.residual, (render(s.weights) - y).squaredNorm(), 1e-9 * y.squaredNorm());
@@ -214,6 +215,10 @@ TEST(KeepNonNegativeOnTable, LeavesNoBinOfTheTableBelowZero) {
         EXPECT_GT(keep.solves, 0);
         EXPECT_GT(keep.bins_added, 0);
       }
+      // A fit checked twice leaves a summary for the next fit of these tables
+      // (the given one where there is one).
+      ASSERT_NE(checks.summary(), nullptr);
+      if (check) EXPECT_EQ(checks.summary(), check);
     }
 }
 
