@@ -35,8 +35,8 @@ struct CachedDatabaseId {
 // Digest of `files`' bytes (in order) and `salt`; Error naming an unreadable file.
 std::string FingerprintFiles(const std::vector<std::string>& files, const std::string& salt);
 
-// 64-bit checksum of a byte range (four interleaved multiply-xor lanes, so it
-// runs at memory speed; detects any changed, swapped or truncated word).
+// 64-bit checksum of a byte range (32 interleaved multiply-xor lanes, so it
+// runs near memory speed; detects any changed, swapped or truncated word).
 uint64_t Checksum64(const void* data, size_t bytes);
 
 // Writes `db` (all materials of the source) with its Gram matrices to `path`.

@@ -179,6 +179,11 @@ TEST(DatabaseCache, ChecksumSeesEveryWord) {
   std::vector<uint64_t> swapped2 = words;
   swapped2[3] = 7, swapped2[4] = 9;
   EXPECT_NE(Checksum64(swapped.data(), 8000), Checksum64(swapped2.data(), 8000));
+  // Two words of one lane (32 words apart), swapped: each lane's chain is
+  // ordered.
+  std::vector<uint64_t> lane_a = words, lane_b = words;
+  lane_a[5] = 9, lane_b[37] = 9;
+  EXPECT_NE(Checksum64(lane_a.data(), 8000), Checksum64(lane_b.data(), 8000));
   EXPECT_NE(Checksum64(words.data(), 7999), h) << "length counts";
 }
 
