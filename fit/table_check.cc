@@ -207,20 +207,18 @@ std::array<double, 3> MeanBlendToNonNegative(const TablesRef& tables, const std:
                                              const Eigen::MatrixXd& wJ, const std::vector<int>& rows) {
   const Eigen::Index k = static_cast<Eigen::Index>(members.size());
   BRDFSHOT_CHECK(k > 0 && wJ.rows() == k && wJ.cols() == 3, "MeanBlendToNonNegative: weights are members × 3");
+  // The values as the checks sum them; the mean is the sum at weights 1/k.
+  const BinWeights weights(members, wJ), mean_weights(members, Eigen::MatrixXd::Constant(k, 3, 1.0 / k));
   std::array<double, 3> t{};
   for (int r : rows) {
     BRDFSHOT_CHECK(r >= 0 && r < tables.rows(), "MeanBlendToNonNegative: row out of range");
-    double mean = 0, value[3] = {};
-    for (Eigen::Index i = 0; i < k; ++i) {
-      const double b = tables(r, members[static_cast<size_t>(i)]);
-      mean += b;
-      for (int c = 0; c < 3; ++c) value[c] += wJ(i, c) * b;
-    }
-    mean /= static_cast<double>(k);
+    double value[3], mean[3];
+    weights.IsNegative(tables.row(r).data(), value);
+    mean_weights.IsNegative(tables.row(r).data(), mean);
     // (1 − t) v + t m ≥ 0 for t ≥ −v / (m − v); m > 0 wherever v < 0, the
     // tables being non-negative.
     for (int c = 0; c < 3; ++c)
-      if (value[c] < 0) t[c] = std::max(t[c], mean > value[c] ? -value[c] / (mean - value[c]) : 1.0);
+      if (value[c] < 0) t[c] = std::max(t[c], mean[c] > value[c] ? -value[c] / (mean[c] - value[c]) : 1.0);
   }
   // A hair more, so that the rounding of the blended sums lands above zero.
   for (double& x : t)
