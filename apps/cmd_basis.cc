@@ -63,9 +63,8 @@ int BasisMain(int argc, char** argv) {
   o.lobes = !no_lobes;
   o.database = db.ToOptions(true);
   o.progress = true;
-  const SceneBasis r = ComputeSceneBasis(o);
+  const SceneBasis r = ComputeSceneBasis(o, out);
   if (r.search) PrintQualitySearch(*r.search, o.error_target);
-  r.images.Write(out);
   if (r.reused) {
     std::printf("basis images: %zu pixels x %d bases under %s (%s), taken from %s\nwrote %s\n",
                 r.images.geometry.size(), r.bases, r.probe_name.c_str(), r.database_label.c_str(),

@@ -6,6 +6,7 @@
 
 #include "util/atomic_file.h"
 #include "util/check.h"
+#include "util/huge_pages.h"
 #include "util/json_int.h"
 #include "util/mapped_file.h"
 #include "util/tagged_file.h"
@@ -105,12 +106,16 @@ BasisImages BasisImages::Parse(std::string_view bytes, const std::string& name) 
   p += 48 * P;
   for (int c = 0; c < 3; ++c) {
     b.Y[c].resize(P, n);
+    // 100-odd MB of fresh pages: on huge pages their first touch is a few
+    // dozen faults, not tens of thousands (util/huge_pages.h).
+    AdviseHugePages(b.Y[c].data(), sizeof(float) * b.Y[c].size());
     std::memcpy(b.Y[c].data(), p, P * n * 4);
     p += P * n * 4;
     if (!b.Y[c].allFinite()) throw FileError(name, "basis images contain NaN or Inf");
   }
   for (int c = 0; c < 3 && nl > 0; ++c) {
     b.lobes[c].resize(P, nl);
+    AdviseHugePages(b.lobes[c].data(), sizeof(float) * b.lobes[c].size());
     std::memcpy(b.lobes[c].data(), p, P * nl * 4);
     p += P * nl * 4;
     if (!b.lobes[c].allFinite()) throw FileError(name, "lobe images contain NaN or Inf");

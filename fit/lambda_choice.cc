@@ -41,6 +41,16 @@ std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR
   return out;
 }
 
+std::array<ChannelFactor, 3> FactorOfFolds(const std::vector<std::array<Eigen::MatrixXd, 3>>& held_gram) {
+  BRDFSHOT_CHECK(!held_gram.empty(), "FactorOfFolds: no folds");
+  std::array<ChannelFactor, 3> f;
+  for (int c = 0; c < 3; ++c) {
+    f[c].gram = held_gram[0][c];
+    for (size_t k = 1; k < held_gram.size(); ++k) f[c].gram += held_gram[k][c];
+  }
+  return f;
+}
+
 std::vector<Eigen::VectorXd> ProjectRowsByFold(const MatrixXfR& Y, const Eigen::VectorXd& y,
                                                const std::vector<int>& fold_of_pixel, int folds, Eigen::Index begin,
                                                Eigen::Index end) {

@@ -54,6 +54,10 @@ std::vector<std::vector<int>> RowsByFold(const std::vector<int>& fold_of_pixel, 
 std::vector<std::array<Eigen::MatrixXd, 3>> FoldGrams(const std::array<MatrixXfR, 3>& Y,
                                                       const std::vector<int>& fold_of_pixel, int folds);
 
+// The whole photo's factor (no QR) from its folds' Gram matrices: every pixel
+// lies in one fold, so their sum is YᵀY, with no second pass over the images.
+std::array<ChannelFactor, 3> FactorOfFolds(const std::vector<std::array<Eigen::MatrixXd, 3>>& held_gram);
+
 // Yᵀ y over each fold's rows among rows [begin, end) (end < 0: every row):
 // z[k] sums fold k's rows, in double, each float row widened as it is read.
 // The rows are read once, in order, each added to its own fold's sum: a

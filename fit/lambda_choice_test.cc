@@ -101,10 +101,19 @@ TEST(LambdaChoice, WedgesCoverTheSphereEvenlyAndTheirGramsAddUp) {
     EXPECT_NEAR(count[k], s.g.size() / 6.0, 0.08 * s.g.size() / 6.0) << "wedge " << k;
   const auto f = FactorBasisImages(s.Y);
   const auto held = FoldGrams(s.Y, fold, 6);
+  const auto of_folds = FactorOfFolds(held);
   for (int c = 0; c < 3; ++c) {
     Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(8, 8);
     for (const auto& h : held) sum += h[c];
     EXPECT_LT((sum - f[c].gram).norm(), 1e-9 * f[c].gram.norm());
+    // and YᵀY in double, row by row, against the folds' sum
+    Eigen::MatrixXd direct = Eigen::MatrixXd::Zero(8, 8);
+    for (Eigen::Index p = 0; p < s.Y[c].rows(); ++p) {
+      const Eigen::RowVectorXd row = s.Y[c].row(p).cast<double>();
+      direct += row.transpose() * row;
+    }
+    EXPECT_LT((of_folds[c].gram - direct).norm(), 1e-9 * direct.norm());
+    EXPECT_FALSE(of_folds[c].has_qr());
   }
 }
 

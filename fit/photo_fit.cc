@@ -42,7 +42,13 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
   BRDFSHOT_CHECK(model.label.size() == static_cast<size_t>(basis.Y[0].cols()));
   PhotoFit out;
   Stopwatch sw;
-  std::array<ChannelFactor, 3> f = FactorBasisImages(basis.Y);
+  // The folds serve the choice (rule cv) and the predicted error (every rule);
+  // their Gram matrices add up to the whole photo's.
+  const int folds = std::max(2, opt.folds);
+  const std::vector<int> fold_of_pixel = folds_given ? *folds_given : WedgeFolds(basis.geometry, folds);
+  BRDFSHOT_CHECK(fold_of_pixel.size() == basis.geometry.size());
+  std::vector<std::array<Eigen::MatrixXd, 3>> fold_grams = FoldGrams(basis.Y, fold_of_pixel, folds);
+  std::array<ChannelFactor, 3> f = FactorOfFolds(fold_grams);
   std::vector<std::vector<int>> model_members;
   for (int j = 0; j < model.classes(); ++j) model_members.push_back(model.Members(j));
   std::vector<int> every_basis(model.label.size());
@@ -61,11 +67,7 @@ PhotoFit FitPhoto(const BasisImages& basis, const ClassModel& model, const Eigen
                            members);
     sun_metrics = ClassMetrics(DirectionalImageGram(*tables, basis.Grid(), ConfidenceSuns()), members);
   }
-  // The folds serve the choice (rule cv) and the predicted error (every rule).
-  const int folds = std::max(2, opt.folds);
-  const std::vector<int> fold_of_pixel = folds_given ? *folds_given : WedgeFolds(basis.geometry, folds);
-  BRDFSHOT_CHECK(fold_of_pixel.size() == basis.geometry.size());
-  const CvSystem cv_system = FactorFolds(f, FoldGrams(basis.Y, fold_of_pixel, folds), members);
+  const CvSystem cv_system = FactorFolds(f, std::move(fold_grams), members);
   if (opt.constraint == WeightConstraint::Kind::kBins && !tables)
     throw Error("the non-negative-bin constraint needs the database's tables");
   out.seconds_factor = sw.Seconds();

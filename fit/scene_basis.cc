@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "normals/observation.h"
+#include "util/atomic_file.h"
 #include "util/check.h"
 #include "util/fnv_hash.h"
 #include "util/progress.h"
@@ -59,7 +60,7 @@ bool ReadShared(const std::string& path, const nlohmann::json& key, BasisImages*
 
 }  // namespace
 
-SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
+SceneBasis ComputeSceneBasis(const SceneBasisOptions& o, const std::string& out) {
   SceneBasis r;
   Stopwatch sw;
   const LatLongProbe probe = LatLongProbe::Read(o.probe);
@@ -84,6 +85,7 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
   if (!r.shared_file.empty() && ReadShared(r.shared_file, key, &b)) {
     r.reused = true;
     name_this_scene();
+    if (!out.empty()) b.Write(out);
     return r;
   }
 
@@ -123,10 +125,14 @@ SceneBasis ComputeSceneBasis(const SceneBasisOptions& o) {
     b.header["quality_search"] = s;
   }
   r.levels = t.levels();
+  if (!r.shared_file.empty()) b.header["scene_key"] = key;
+  if (!out.empty()) b.Write(out);
   if (!r.shared_file.empty()) {
-    b.header["scene_key"] = key;
     std::filesystem::create_directories(o.shared_dir);
-    b.Write(r.shared_file);  // atomic: captures rendering the same scene at once both write whole files
+    // Atomic either way: captures rendering the same scene at once each put a
+    // whole file there. Linked from this call's own output, never the other
+    // way round, so that a capture's output names its own probe and pixels.
+    if (out.empty() || !LinkFileAtomic(out, r.shared_file)) b.Write(r.shared_file);
   }
   return r;
 }

@@ -161,7 +161,12 @@ TEST(SceneBasis, IdenticalScenesShareOneRenderingAndADamagedShareIsRenderedAgain
   SceneBasisOptions o = DemoScene(one);
   o.shared_dir = (dir / "shared").string();
   const SceneBasis unshared = ComputeSceneBasis(DemoScene(one));
-  const SceneBasis first = ComputeSceneBasis(o), second = ComputeSceneBasis(o);
+  // The first with an output of its own: the shared file is that output, linked.
+  const std::string first_out = (dir / "first.bsbi").string(), second_out = (dir / "second.bsbi").string();
+  const SceneBasis first = ComputeSceneBasis(o, first_out), second = ComputeSceneBasis(o, second_out);
+  const bool linked = fs::equivalent(first_out, first.shared_file);
+  const BasisImages first_written = BasisImages::Read(first_out), second_written = BasisImages::Read(second_out);
+  const BasisImages first_shared = BasisImages::Read(first.shared_file);
   SceneBasisOptions other = o;
   other.probe = two;
   const SceneBasis under_two = ComputeSceneBasis(other);
@@ -189,6 +194,14 @@ TEST(SceneBasis, IdenticalScenesShareOneRenderingAndADamagedShareIsRenderedAgain
     EXPECT_EQ(after_damage.images.Y[c], unshared.images.Y[c]) << "channel " << c;
   }
   EXPECT_EQ(second.images.header.at("probe"), one);
+  EXPECT_TRUE(linked) << "a file system that has hard links shares the output, not a second write";
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(first_written.Y[c], unshared.images.Y[c]) << "the output holds the images, channel " << c;
+    EXPECT_EQ(first_shared.Y[c], unshared.images.Y[c]) << "channel " << c;
+    EXPECT_EQ(second_written.Y[c], unshared.images.Y[c]) << "a reused scene's output too, channel " << c;
+    EXPECT_EQ(first_written.lobes[c], first.images.lobes[c]) << "channel " << c;
+  }
+  EXPECT_EQ(second_written.header.at("probe"), one);
   EXPECT_EQ(second.images.header.at("quality"), unshared.images.header.at("quality"));
 }
 

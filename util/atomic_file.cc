@@ -74,6 +74,19 @@ void WriteFileAtomicByName(const std::string& path, const std::function<void(con
   Commit(tmp, path);
 }
 
+bool LinkFileAtomic(const std::string& existing, const std::string& path) {
+  CheckOutputPath(path);
+  std::error_code ec;
+  if (!fs::is_regular_file(existing, ec)) throw FileError(existing, "not a file to link to");
+  if (fs::equivalent(existing, path, ec)) return true;
+  const std::string tmp = TempPathFor(path);
+  fs::remove(tmp, ec);
+  fs::create_hard_link(existing, tmp, ec);
+  if (ec) return false;
+  Commit(tmp, path);
+  return true;
+}
+
 std::string ReadFileBytes(const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw FileError(path, "is a folder, expected a file");

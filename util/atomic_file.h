@@ -20,6 +20,15 @@ void WriteFileAtomic(const std::string& path, const std::function<void(std::ostr
 // The temporary keeps `path`'s extension so format-by-extension writers work.
 void WriteFileAtomicByName(const std::string& path, const std::function<void(const std::string&)>& write);
 
+// Makes `path` a hard link to the finished file `existing` (a temporary link
+// beside `path`, renamed into place): the same bytes without writing them
+// again. Returns false and leaves `path` alone where the file system refuses
+// the link (another device, no hard links), so the caller writes instead;
+// true without change when `path` already is `existing`. The two names share
+// one inode, so this suits outputs that are only ever replaced whole, as every
+// output here is.
+bool LinkFileAtomic(const std::string& existing, const std::string& path);
+
 // Reads a whole file; Error naming the file if it cannot be opened or is a folder.
 std::string ReadFileBytes(const std::string& path);
 

@@ -64,4 +64,36 @@ TEST_F(AtomicFileTest, ReadMissingFileNamesIt) {
   }
 }
 
+// A link replaces the old output whole, gives the linked file's bytes, leaves
+// that file as it was and leaves no temporary; a link onto itself changes
+// nothing; a missing file to link to is an error naming it.
+TEST_F(AtomicFileTest, LinkReplacesTheOutputWithTheLinkedFilesBytes) {
+  const std::string source = (dir_ / "shared.bin").string(), out = (dir_ / "out.bin").string();
+  WriteFileAtomic(source, [](std::ostream& o) { o << "images"; });
+  WriteFileAtomic(out, [](std::ostream& o) { o << "an older output"; });
+  ASSERT_TRUE(LinkFileAtomic(source, out));
+  EXPECT_EQ(ReadFileBytes(out), "images");
+  EXPECT_EQ(ReadFileBytes(source), "images");
+  EXPECT_TRUE(fs::equivalent(source, out));
+  EXPECT_EQ(fs::hard_link_count(source), 2u);
+  int files = 0;
+  for (auto& e : fs::directory_iterator(dir_)) {
+    (void)e;
+    ++files;
+  }
+  EXPECT_EQ(files, 2) << "temporary link left behind";
+  // Replacing one name later (as every writer here does) leaves the other.
+  WriteFileAtomic(out, [](std::ostream& o) { o << "new"; });
+  EXPECT_EQ(ReadFileBytes(source), "images");
+  EXPECT_TRUE(LinkFileAtomic(source, source));
+  EXPECT_EQ(ReadFileBytes(source), "images");
+  try {
+    LinkFileAtomic((dir_ / "absent.bin").string(), out);
+    ADD_FAILURE() << "linking to a missing file must throw";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("absent.bin"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ReadFileBytes(out), "new");
+}
+
 }  // namespace brdfshot
