@@ -365,21 +365,17 @@ Eigen::MatrixXd GramMatrix(const TablesRef& B, const std::vector<float>* w, Tabl
   return total.selfadjointView<Eigen::Lower>();
 }
 
-std::vector<float> CosineWeights(const MerlGrid& grid) {
-  std::vector<float> w(grid.size());
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < static_cast<long>(grid.size()); ++i) w[i] = static_cast<float>(grid.CosineWeight(i));
-  return w;
-}
+std::vector<float> CosineWeights(const MerlGrid& grid) { return grid.CosineWeightTable(); }
 
 MerlBrdf CombineBases(const BasisDatabase& db, const Eigen::MatrixXd& weights, long* clamped) {
   BRDFSHOT_CHECK(weights.rows() == db.num_bases() && weights.cols() == 3);
   MerlBrdf out(db.grid);
   const Eigen::MatrixXf wf = weights.cast<float>();
+  const std::vector<float> measurable = db.grid.CosineWeightTable();  // > 0 where measurable
   long below = 0;
 #pragma omp parallel for schedule(static) reduction(+ : below)
   for (long idx = 0; idx < static_cast<long>(db.grid.size()); ++idx) {
-    if (!db.grid.Measurable(idx)) continue;
+    if (!(measurable[idx] > 0)) continue;
     for (int c = 0; c < 3; ++c) {
       const double v = db.B.row(idx).dot(wf.col(c).transpose());
       // A combination may dip below zero where weights are negative: clamp, since

@@ -92,4 +92,33 @@ double MerlGrid::CosineWeight(size_t idx) const {
   return wi.z * wo.z;
 }
 
+std::vector<float> MerlGrid::CosineWeightTable() const {
+  std::vector<double> cos_h(n_th), sin_h(n_th), cos_d(n_td), sin_d(n_td), cos_p(n_pd), sin_p(n_pd);
+  for (int i = 0; i < n_th; ++i) {
+    const double t = LatticePoint(i, 0, 0).theta_h;
+    cos_h[i] = std::cos(t), sin_h[i] = std::sin(t);
+  }
+  for (int j = 0; j < n_td; ++j) {
+    const double t = LatticePoint(0, j, 0).theta_d;
+    cos_d[j] = std::cos(t), sin_d[j] = std::sin(t);
+  }
+  for (int k = 0; k < n_pd; ++k) {
+    const double t = LatticePoint(0, 0, k).phi_d;
+    cos_p[k] = std::cos(t), sin_p[k] = std::sin(t);
+  }
+  std::vector<float> w(size());
+  // The arithmetic of FromHalfDiff and CosineWeight on the same sines.
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n_th; ++i)
+    for (int j = 0; j < n_td; ++j)
+      for (int k = 0; k < n_pd; ++k) {
+        const Vec3 d(sin_d[j] * cos_p[k], sin_d[j] * sin_p[k], cos_d[j]);
+        const Vec3 h(sin_h[i], 0, cos_h[i]);
+        const Vec3 wi(cos_h[i] * d.x + sin_h[i] * d.z, d.y, -sin_h[i] * d.x + cos_h[i] * d.z);
+        const Vec3 wo = Reflect(wi, h);
+        w[Index(i, j, k)] = wi.z <= 1e-9 || wo.z <= 1e-9 ? 0.0f : static_cast<float>(wi.z * wo.z);
+      }
+  return w;
+}
+
 }  // namespace brdfshot

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 #include <cstddef>
 
 #include "util/vec3.h"
@@ -45,6 +46,10 @@ struct MerlGrid {
   bool Measurable(size_t idx) const;
   // cos θ_i · cos θ_o at the entry's lattice point (0 where not measurable).
   double CosineWeight(size_t idx) const;
+  // CosineWeight of every entry as float, in index order: the trigonometry of
+  // each axis taken once (a few hundred sines, not three pairs per entry: the
+  // table has 1.46 M entries and a BRDF is combined over all of them).
+  std::vector<float> CosineWeightTable() const;
   bool operator==(const MerlGrid& o) const { return n_th == o.n_th && n_td == o.n_td && n_pd == o.n_pd; }
 };
 
