@@ -97,6 +97,8 @@ BasisImages BasisImages::Parse(std::string_view bytes, const std::string& name) 
     b.geometry.y[i] = xy[1];
   }
   p += 8 * P;
+  b.geometry.normal.reserve(P);
+  b.geometry.view.reserve(P);
   for (size_t i = 0; i < P; ++i) {
     double v[6];
     std::memcpy(v, p + 48 * i, 48);
