@@ -133,6 +133,19 @@ TEST(MerlBrdf, BelowHorizonIsZeroAndUnmeasuredIsMarked) {
   EXPECT_LT(m.UnmeasuredFraction(), 0.6);
 }
 
+// A new table is unmeasured everywhere, on MERL's grid (35 MB, on huge pages
+// where the kernel grants them) as on a small one.
+TEST(MerlBrdf, ANewTableIsUnmeasuredAtEveryEntry) {
+  for (const MerlGrid grid : {MerlGrid{}, MerlGrid{3, 4, 5}}) {
+    const MerlBrdf m(grid);
+    size_t other = 0;
+    for (int c = 0; c < 3; ++c)
+      for (size_t idx = 0; idx < grid.size(); ++idx) other += m.raw(c, idx) != -1.0;
+    EXPECT_EQ(other, 0u) << grid.size() << " entries";
+    EXPECT_EQ(m.UnmeasuredFraction(), 1.0);
+  }
+}
+
 class MerlBadFileTest : public ::testing::Test {
  protected:
   void ExpectNamedError(const std::string& bytes, const std::string& fragment) {
