@@ -180,8 +180,7 @@ BasisDatabase ComputeTables(const ComputedSource& src, const MerlGrid& grid, con
   if (src.kind == "nbrdf") {
     db.label = "MERL (NBRDF approximation)";
     const MatrixXfR x = NbrdfInputs(db.grid);
-    std::vector<char> measurable(db.grid.size());
-    for (size_t i = 0; i < measurable.size(); ++i) measurable[i] = db.grid.Measurable(i);
+    const std::vector<float> cosw = db.grid.CosineWeightTable();  // > 0 where measurable
     std::vector<NbrdfNetwork> nets;
     for (int k : keep) nets.push_back(NbrdfNetwork::Load(src.folder + "/npy", src.names[k]));
     Progress progress("evaluating NBRDF", keep.size(), progress_on);
@@ -189,7 +188,7 @@ BasisDatabase ComputeTables(const ComputedSource& src, const MerlGrid& grid, con
     for (int m = 0; m < static_cast<int>(keep.size()); ++m) {
       const MatrixXfR rho = nets[m].Eval(x);
       for (size_t idx = 0; idx < db.grid.size(); ++idx)
-        for (int c = 0; c < 3; ++c) B(idx, 3 * m + c) = measurable[idx] ? rho(idx, c) : 0.0f;
+        for (int c = 0; c < 3; ++c) B(idx, 3 * m + c) = cosw[idx] > 0 ? rho(idx, c) : 0.0f;
       progress.Step();
     }
     db.B = BasisTables(std::move(B));
@@ -241,7 +240,7 @@ std::string EnsureCache(const ComputedSource& src, const DatabaseOptions& opt, c
   fs::create_directories(dir, ec);
   Stopwatch sw;
   *built = ComputeTables(src, opt.grid, AllIndices(src.names.size()), opt.progress);
-  const std::vector<float> cosw = CosineWeights(built->grid);
+  const std::vector<float> cosw = built->grid.CosineWeightTable();
   try {
     WriteDatabaseCache(path, id, *built, GramMatrix(built->B), GramMatrix(built->B, &cosw));
   } catch (const Error& e) {
@@ -321,7 +320,7 @@ DatabaseGrams LoadDatabaseGrams(const DatabaseOptions& opt) {
   const std::string kind = ResolveDatabaseKind(opt, &folder);
   auto from_tables = [](const BasisDatabase& db) {
     DatabaseGrams g{db.kind, db.label, db.grid, db.materials, db.families, GramMatrix(db.B), {}};
-    const std::vector<float> cosw = CosineWeights(db.grid);
+    const std::vector<float> cosw = db.grid.CosineWeightTable();
     g.gram_cos = GramMatrix(db.B, &cosw);
     return g;
   };
@@ -365,17 +364,15 @@ Eigen::MatrixXd GramMatrix(const TablesRef& B, const std::vector<float>* w, Tabl
   return total.selfadjointView<Eigen::Lower>();
 }
 
-std::vector<float> CosineWeights(const MerlGrid& grid) { return grid.CosineWeightTable(); }
-
 MerlBrdf CombineBases(const BasisDatabase& db, const Eigen::MatrixXd& weights, long* clamped) {
   BRDFSHOT_CHECK(weights.rows() == db.num_bases() && weights.cols() == 3);
   MerlBrdf out(db.grid);
   const Eigen::MatrixXf wf = weights.cast<float>();
-  const std::vector<float> measurable = db.grid.CosineWeightTable();  // > 0 where measurable
+  const std::vector<float> cosw = db.grid.CosineWeightTable();  // > 0 where measurable
   long below = 0;
 #pragma omp parallel for schedule(static) reduction(+ : below)
   for (long idx = 0; idx < static_cast<long>(db.grid.size()); ++idx) {
-    if (!(measurable[idx] > 0)) continue;
+    if (!(cosw[idx] > 0)) continue;
     for (int c = 0; c < 3; ++c) {
       const double v = db.B.row(idx).dot(wf.col(c).transpose());
       // A combination may dip below zero where weights are negative: clamp, since

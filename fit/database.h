@@ -85,9 +85,6 @@ enum class TableMapping { kLinear, kLog };
 Eigen::MatrixXd GramMatrix(const TablesRef& B, const std::vector<float>* row_weight = nullptr,
                            TableMapping mapping = TableMapping::kLinear);
 
-// cos θ_i cos θ_o per bin (0 where not measurable): the weight of the BRDF metric.
-std::vector<float> CosineWeights(const MerlGrid& grid);
-
 // A BRDF from per-channel weights over the bases: ρ_c = B w_c (MERL file layout;
 // unmeasurable bins −1). `weights` is n × 3.
 MerlBrdf CombineBases(const BasisDatabase& db, const Eigen::MatrixXd& weights, long* clamped = nullptr);

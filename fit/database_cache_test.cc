@@ -54,7 +54,7 @@ TEST(DatabaseCache, RoundTripsExactlyAndSelectsColumns) {
   const BasisDatabase db = LoadDatabase(DemoStandins(MerlGrid{6, 6, 12}));
   ASSERT_EQ(db.num_materials(), 16);
   const Eigen::MatrixXd gram = GramMatrix(db.B);
-  const std::vector<float> w = CosineWeights(db.grid);
+  const std::vector<float> w = db.grid.CosineWeightTable();
   const Eigen::MatrixXd gram_cos = GramMatrix(db.B, &w);
   TempDir dir;
   const CachedDatabaseId id{"standin", db.grid, "0123456789abcdef"};

@@ -98,7 +98,7 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
   if (opt.class_features == "cos") {
     in.class_gram = in.gram_cos;
   } else if (opt.class_features == "log-cos") {
-    const std::vector<float> cosw = CosineWeights(base.grid);
+    const std::vector<float> cosw = base.grid.CosineWeightTable();
     in.class_gram = GramMatrix(base.B, &cosw, TableMapping::kLog);
   } else if (opt.class_features != "linear") {
     throw Error("unknown class features '" + opt.class_features + "' (" + ClassFeaturesHelp() + ")");

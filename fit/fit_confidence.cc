@@ -92,7 +92,7 @@ Eigen::MatrixXd SampledCosineGram(const TablesRef& tables, const MerlGrid& grid,
     const Eigen::Index m = std::min(kBlock, rows - r0);
     for (Eigen::Index r = 0; r < m; ++r) {
       const Eigen::Index bin = (r0 + r) * stride;
-      const double weight = static_cast<float>(grid.CosineWeight(bin));  // as CosineWeights holds it
+      const double weight = static_cast<float>(grid.CosineWeight(bin));  // as CosineWeightTable holds it
       for (Eigen::Index i = 0; i < k; ++i) S(r, i) = weight * tables(bin, members[i]);
     }
     gram.selfadjointView<Eigen::Lower>().rankUpdate(S.topRows(m).transpose());

@@ -45,7 +45,7 @@ double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double
 // every basis (e.g. the database's gram_cos, or SampledCosineGram of all).
 std::vector<Eigen::MatrixXd> ClassMetrics(const Eigen::MatrixXd& gram, const std::vector<std::vector<int>>& members);
 
-// Σ over every `stride`-th bin of cos²-weight × b_J b_Jᵀ (CosineWeights of
+// Σ over every `stride`-th bin of cos²-weight × b_J b_Jᵀ (MerlGrid::CosineWeightTable of
 // `grid`): the cosine-weighted BRDF Gram matrix of the bases `members`
 // estimated from a sample of the tables (bins × bases), which `fit` holds —
 // the full matrix over 1.5 M bins would cost seconds per photo.

@@ -107,7 +107,7 @@ TEST(SampledCosineGram, IsTheCosineWeightedGramOverTheSampledBins) {
   std::uniform_real_distribution<float> u(0, 1);
   for (Eigen::Index i = 0; i < B.rows(); ++i)
     for (Eigen::Index j = 0; j < B.cols(); ++j) B(i, j) = u(rng);
-  const std::vector<float> w = CosineWeights(grid);
+  const std::vector<float> w = grid.CosineWeightTable();
   const std::vector<int> members = {4, 1, 2};
   const Eigen::MatrixXd full = GramMatrix(B, &w);
   EXPECT_LT((SampledCosineGram(B, grid, members, 1) - full(members, members)).norm(), 1e-5 * full.norm());

@@ -77,8 +77,9 @@ MatrixXfR NbrdfInputs(const MerlGrid& grid) {
 MerlBrdf NbrdfToMerl(const NbrdfNetwork& net, const MerlGrid& grid) {
   const MatrixXfR rho = net.Eval(NbrdfInputs(grid));
   MerlBrdf m(grid);
+  const std::vector<float> cosw = grid.CosineWeightTable();  // > 0 where measurable
   for (size_t idx = 0; idx < grid.size(); ++idx) {
-    if (!grid.Measurable(idx)) continue;
+    if (!(cosw[idx] > 0)) continue;
     for (int c = 0; c < 3; ++c) m.set_raw(c, idx, rho(idx, c) / kMerlScale[c]);
   }
   return m;
