@@ -169,6 +169,9 @@ Evaluation RunEvaluation(const DatabaseOptions& db, const EvaluationOptions& opt
     s.pixels = geometry.size();
     s.f = FactorBasisImages(Y, !scoring_only);
     if (!scoring_only) s.fold_gram = FoldGrams(Y, fold_of_pixel, opt.folds);
+    // Leave-one-out holds each material's every-basis candidate on the
+    // scene's every basis: one factor per wedge for all materials.
+    if (!scoring_only && !ood) s.fold_all = FactorFoldsOfAll(s.f, s.fold_gram);
     if (!scoring_only) s.photo_noise = PhotoNoisePerMaterial(geometry, ood ? Yts[i] : Y);
     if (ood) {
       target_scenes.push_back(scoring_only ? MakeTargetScene(s.f, Y, Yts[i], one_fold, 1)

@@ -123,13 +123,32 @@ Eigen::VectorXd FoldClassFactor::TimesQt(int c, const Eigen::VectorXd& x) const 
   return reflectors[c].matrixQ().adjoint() * x;
 }
 
+namespace {
+// Whether `members` is `all` in order with at most kMostLeftOut of them
+// left out; `left_out` gets their positions in `all`.
+bool LeftOutOf(const std::vector<int>& members, const std::vector<int>& all, std::vector<int>* left_out) {
+  left_out->clear();
+  if (members.size() > all.size() || all.size() - members.size() > static_cast<size_t>(kMostLeftOut)) return false;
+  size_t j = 0;
+  for (size_t i = 0; i < all.size(); ++i) {
+    if (j < members.size() && members[j] == all[i])
+      ++j;
+    else
+      left_out->push_back(static_cast<int>(i));
+  }
+  return j == members.size();
+}
+}  // namespace
+
 CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
-                     const std::vector<std::vector<int>>& members, FoldQ q) {
+                     const std::vector<std::vector<int>>& members, FoldQ q,
+                     const std::vector<FoldClassFactor>* superset) {
   CvSystem cv;
   cv.held_gram = std::move(held_gram);
   const int K = static_cast<int>(cv.held_gram.size());
   cv.train.resize(K);
   cv.held_class.resize(K);
+  if (superset) BRDFSHOT_CHECK(static_cast<int>(superset->size()) == K, "FactorFolds: one superset factor per fold");
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < K; ++k) {
     cv.train[k].resize(members.size());
@@ -137,6 +156,18 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
     for (size_t j = 0; j < members.size(); ++j) {
       FoldClassFactor& t = cv.train[k][j];
       t.members = members[j];
+      if (superset && members[j].size() >= static_cast<size_t>(kLeastBorderedMembers) &&
+          LeftOutOf(members[j], (*superset)[static_cast<size_t>(k)].members, &t.left_out)) {
+        t.superset = &(*superset)[static_cast<size_t>(k)];
+        BRDFSHOT_CHECK(t.superset->Q[0].size() > 0, "FactorFolds: a superset factor needs Q formed");
+        for (int c = 0; c < 3; ++c) {
+          cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
+          t.gram_prior[c] =
+              t.superset->gram[c](members[j], members[j]).rowwise().sum() / static_cast<double>(members[j].size());
+        }
+        continue;
+      }
+      t.left_out.clear();
       for (int c = 0; c < 3; ++c) {
         cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
         t.gram[c] = f[c].gram(members[j], members[j]) - cv.held_class[k][j][c];
@@ -153,6 +184,16 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
     }
   }
   return cv;
+}
+
+std::vector<FoldClassFactor> FactorFoldsOfAll(const std::array<ChannelFactor, 3>& f,
+                                              const std::vector<std::array<Eigen::MatrixXd, 3>>& held_gram) {
+  std::vector<int> all(static_cast<size_t>(f[0].gram.rows()));
+  for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  CvSystem cv = FactorFolds(f, held_gram, {all}, FoldQ::kFormed);
+  std::vector<FoldClassFactor> out;
+  for (auto& fold : cv.train) out.push_back(std::move(fold[0]));
+  return out;
 }
 
 namespace {
@@ -176,6 +217,97 @@ std::vector<double> WedgeWeights(const Observation& all, const std::vector<Obser
 }
 
 namespace {
+// (T + λ_l I) x_l = b for every λ_l of `lj`, T the tridiagonal matrix of
+// diagonal `d` and off-diagonal `e`, by the LDLᵀ recurrence: column l of the
+// result. Where a pivot is not positive (a singular system at λ = 0) the
+// column is zero, so the fold scores the prior alone: the
+// eigendecomposition's pseudo-inverse would keep only part of the data
+// there, and such a λ is beyond any condition bound, so it is never chosen
+// either way.
+Eigen::MatrixXd TridiagonalFoldSolves(const Eigen::VectorXd& d, const Eigen::VectorXd& e, const Eigen::VectorXd& b,
+                                      const Eigen::VectorXd& lj) {
+  const Eigen::Index k = d.size(), L = lj.size();
+  const double floor = 1e-13 * std::max(k ? d.cwiseAbs().maxCoeff() : 0.0, 1e-300);
+  // Every λ's recurrence side by side, row by row: each λ's arithmetic is
+  // its own recurrence's, but the divisions of different λ overlap instead
+  // of each waiting on the last.
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(k, L);
+  Eigen::MatrixXd piv(L, k), y(L, k);  // column i: every λ's pivot and forward value at row i
+  std::vector<char> ok(static_cast<size_t>(L), 1);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const double off = i > 0 ? e[i - 1] : 0.0;
+    for (Eigen::Index l = 0; l < L; ++l) {
+      if (!ok[static_cast<size_t>(l)]) continue;
+      piv(l, i) = d[i] + lj[l] - (i > 0 ? off * off / piv(l, i - 1) : 0.0);
+      ok[static_cast<size_t>(l)] = piv(l, i) > floor;
+      y(l, i) = b[i] - (i > 0 ? off * y(l, i - 1) / piv(l, i - 1) : 0.0);
+    }
+  }
+  for (Eigen::Index i = k - 1; i >= 0; --i)
+    for (Eigen::Index l = 0; l < L; ++l)
+      if (ok[static_cast<size_t>(l)]) X(i, l) = (y(l, i) - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv(l, i);
+  return X;
+}
+
+// The most a bordered solve may cancel, ‖u‖ / ‖d‖ (u the superset's
+// solution, d the class's after the left-out weights are pinned to zero):
+// the digits d loses to the subtraction. A left-out basis that the others
+// almost span makes the superset's system worse conditioned than the
+// class's own, and u large along that direction. On MERL's bases the ratio
+// is 10²–10⁵ for most solves (docs/benchmarks.md); past 10⁶, six of the
+// sixteen digits, the class is factored on its own instead.
+constexpr double kMostCancellation = 1e6;
+
+// The bordered solves of FoldClassFactor::superset: for every λ_l of `lj`,
+// the class's (A_JJ + λ_l I) d = r (columns of `D`, k × L), from the
+// superset's A = Q T Qᵀ. With u = (A + λI)⁻¹ r̃ (r̃: r with zeros at the
+// left-out rows R) and P = (A + λI)⁻¹ E, d = u − P S⁻¹ Eᵀu, S = Eᵀ P: the
+// weights at R pinned to zero, the rest the smaller system's solution. False
+// where a pivot of T + λI is not positive, S is not positive definite, or d
+// cancels more than kMostCancellation: the caller factors the class.
+bool BorderedFoldSolves(const FoldClassFactor& cls, int c, const Eigen::VectorXd& r, const Eigen::VectorXd& lj,
+                        Eigen::MatrixXd* D) {
+  const FoldClassFactor& sup = *cls.superset;
+  const Eigen::MatrixXd& Q = sup.Q[c];
+  const Eigen::VectorXd& dg = sup.diagonal[c];
+  const Eigen::VectorXd& e = sup.off_diagonal[c];
+  const Eigen::Index n = Q.rows(), nr = static_cast<Eigen::Index>(cls.left_out.size()), L = lj.size();
+  const Eigen::Index m = nr + 1;  // right-hand sides: r̃, then E's columns
+  std::vector<char> kept(static_cast<size_t>(n), 1);
+  for (int i : cls.left_out) kept[static_cast<size_t>(i)] = 0;
+  std::vector<int> J;
+  Eigen::VectorXd rt = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0, j = 0; i < n; ++i)
+    if (kept[static_cast<size_t>(i)]) rt[i] = r[j++], J.push_back(static_cast<int>(i));
+  const Eigen::MatrixXd QR = Q(cls.left_out, Eigen::all);  // Eᵀ Q: nr × n
+  Eigen::MatrixXd rhs(m, n);                               // row-wise right-hand sides in T's frame, Qᵀ [r̃ E]
+  rhs.row(0) = (Q.transpose() * rt).transpose();
+  rhs.bottomRows(nr) = QR;
+  const double floor = 1e-13 * std::max(n ? dg.cwiseAbs().maxCoeff() : 0.0, 1e-300);
+  Eigen::MatrixXd Dh(n, L), U(m, n);
+  Eigen::VectorXd piv(n);
+  for (Eigen::Index l = 0; l < L; ++l) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      piv[i] = dg[i] + lj[l] - (i > 0 ? e[i - 1] * e[i - 1] / piv[i - 1] : 0.0);
+      if (!(piv[i] > floor)) return false;
+      U.col(i) = rhs.col(i);
+      if (i > 0) U.col(i) -= (e[i - 1] / piv[i - 1]) * U.col(i - 1);
+    }
+    for (Eigen::Index i = n - 1; i >= 0; --i) {
+      if (i + 1 < n) U.col(i) -= e[i] * U.col(i + 1);
+      U.col(i) /= piv[i];
+    }
+    const Eigen::VectorXd u = U.row(0).transpose();
+    const Eigen::MatrixXd P = U.bottomRows(nr).transpose();  // n × nr
+    const Eigen::LLT<Eigen::MatrixXd> S(QR * P);
+    if (S.info() != Eigen::Success) return false;
+    Dh.col(l) = u - P * S.solve(QR * u);
+    if (!(u.norm() <= kMostCancellation * Dh.col(l).norm())) return false;
+  }
+  *D = (Q * Dh)(J, Eigen::all);
+  return true;
+}
+
 // Held-out squared error of class `cls` (its fold factor) for every λ of
 // `grid` that `scored` marks (all when empty), times `weight`, added into
 // `score`.
@@ -197,36 +329,21 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd z_train = (all.z[c] - held.z[c])(J);
     const double n2_train = all.norm2[c] - held.norm2[c];
-    const Eigen::VectorXd b = cls.TimesQt(c, z_train - cls.gram_prior[c]);
-    const Eigen::VectorXd& d = cls.diagonal[c];
-    const Eigen::VectorXd& e = cls.off_diagonal[c];
-    // (T + λ_j I) x = b by the LDLᵀ recurrence of a tridiagonal matrix. Where
-    // a pivot is not positive (a singular system at λ = 0) the fold scores
-    // the prior alone: the eigendecomposition's pseudo-inverse would keep
-    // only part of the data there, and such a λ is beyond any condition
-    // bound, so it is never chosen either way.
-    const double floor = 1e-13 * std::max(d.cwiseAbs().maxCoeff(), 1e-300);
-    // Every λ's recurrence side by side, row by row: each λ's arithmetic is
-    // its own recurrence's, but the divisions of different λ overlap instead
-    // of each waiting on the last.
-    Eigen::MatrixXd X = Eigen::MatrixXd::Zero(k, L);
-    Eigen::MatrixXd piv(L, k), y(L, k);  // column i: every λ's pivot and forward value at row i
+    const Eigen::VectorXd r = z_train - cls.gram_prior[c];
     Eigen::VectorXd lj(L);
-    std::vector<char> ok(static_cast<size_t>(L), 1);
     for (Eigen::Index l = 0; l < L; ++l) lj[l] = grid[l] * n2_train / cj;
-    for (Eigen::Index i = 0; i < k; ++i) {
-      const double off = i > 0 ? e[i - 1] : 0.0;
-      for (Eigen::Index l = 0; l < L; ++l) {
-        if (!ok[static_cast<size_t>(l)]) continue;
-        piv(l, i) = d[i] + lj[l] - (i > 0 ? off * off / piv(l, i - 1) : 0.0);
-        ok[static_cast<size_t>(l)] = piv(l, i) > floor;
-        y(l, i) = b[i] - (i > 0 ? off * y(l, i - 1) / piv(l, i - 1) : 0.0);
+    Eigen::MatrixXd W;  // k × L: each λ's deviation from the prior
+    if (!cls.bordered() || !BorderedFoldSolves(cls, c, r, lj, &W)) {
+      if (cls.bordered()) {
+        // Factored on the spot: the bordered solve could not be trusted.
+        const Eigen::MatrixXd A = cls.superset->gram[c](J, J);
+        const Eigen::Tridiagonalization<Eigen::MatrixXd> tri(A);
+        const Eigen::VectorXd e = k > 1 ? Eigen::VectorXd(tri.subDiagonal()) : Eigen::VectorXd();
+        W = tri.matrixQ() * TridiagonalFoldSolves(tri.diagonal(), e, tri.matrixQ().adjoint() * r, lj);
+      } else {
+        W = cls.TimesQ(c, TridiagonalFoldSolves(cls.diagonal[c], cls.off_diagonal[c], cls.TimesQt(c, r), lj));
       }
     }
-    for (Eigen::Index i = k - 1; i >= 0; --i)
-      for (Eigen::Index l = 0; l < L; ++l)
-        if (ok[static_cast<size_t>(l)]) X(i, l) = (y(l, i) - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv(l, i);
-    Eigen::MatrixXd W = cls.TimesQ(c, X);  // k × L, all λ at once
     W.colwise() += prior;
     const Eigen::MatrixXd GW = held_class_gram[c] * W;
     const Eigen::VectorXd zh = held.z[c](J);

@@ -94,6 +94,24 @@ struct FoldClassFactor {
   // Q x and Qᵀ x for channel c, whichever way Q is held.
   Eigen::MatrixXd TimesQ(int c, const Eigen::MatrixXd& x) const;
   Eigen::VectorXd TimesQt(int c, const Eigen::VectorXd& x) const;
+
+  // A class of every member of a larger one's but a few (a leave-one-out
+  // evaluation's every-basis candidate: all bases but the left-out
+  // material's): no factor of its own. Each λ is solved in `superset`'s
+  // factor (Q formed) with the weights of `left_out` (positions in
+  // superset->members) held at zero: the bordered system
+  //   [A + λI  E] [d]   [b]
+  //   [Eᵀ      0] [μ] = [0],
+  // whose d is the solution of the smaller system (A_JJ + λI) d_J = b_J, at
+  // a tridiagonal solve per left-out column and an r × r system per λ
+  // instead of a tridiagonalisation of its own. Where the bordered solve
+  // cancels too much to trust (BorderedFoldSolves) or meets a singular
+  // pivot, the class is factored on the spot, so the scores are those of its
+  // own factor either way. `gram` and the factors above stay empty;
+  // `gram_prior` is its own.
+  const FoldClassFactor* superset = nullptr;
+  std::vector<int> left_out;
+  bool bordered() const { return superset != nullptr; }
 };
 
 // How the folds' Q is held. Forming it costs as much again as the
@@ -110,8 +128,25 @@ struct CvSystem {
   std::vector<std::vector<FoldClassFactor>> train;                      // [fold][class]
   std::vector<std::vector<std::array<Eigen::MatrixXd, 3>>> held_class;  // [fold][class][channel]: G_fold,JJ
 };
+// `superset`, where given: per fold, a factor of many members with Q formed
+// (the scene's every basis); a class of all its members but at most
+// kMostLeftOut is held bordered on it (FoldClassFactor::superset). It must
+// outlive the system.
 CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::array<Eigen::MatrixXd, 3>> held_gram,
-                     const std::vector<std::vector<int>>& members, FoldQ q = FoldQ::kFormed);
+                     const std::vector<std::vector<int>>& members, FoldQ q = FoldQ::kFormed,
+                     const std::vector<FoldClassFactor>* superset = nullptr);
+
+// A bordered class costs r + 1 tridiagonal solves and an r × r system per λ
+// against a tridiagonalisation of its own (k³): it pays for a few left-out
+// members of a large class, which is what a leave-one-out evaluation leaves
+// out (one material's three channel-bases).
+constexpr int kMostLeftOut = 8;
+constexpr int kLeastBorderedMembers = 32;
+
+// Per fold, the factor of every one of `n` bases with Q formed: the superset
+// that FactorFolds holds each left-out material's every-basis class on.
+std::vector<FoldClassFactor> FactorFoldsOfAll(const std::array<ChannelFactor, 3>& f,
+                                              const std::vector<std::array<Eigen::MatrixXd, 3>>& held_gram);
 
 struct LambdaChoiceOptions {
   std::string rule = "cv";  // cv | gcv | fixed (docs/method.md, "Choosing λ per capture")

@@ -354,6 +354,90 @@ TEST(LambdaChoice, ResidualRuleTakesTheLeastLambdaWithinTheBoundAndTheWedgesScor
   EXPECT_NEAR(ch.predicted_error, std::sqrt(by_cv.score[0][2] / total), 1e-12);
 }
 
+// `n` basis images of full rank: a smooth quadratic in the normal plus an
+// independent ripple per pixel, so that dozens of bases are not spanned by
+// the quadratics' five parameters.
+Scene MakeFullRankScene(int n, uint32_t seed) {
+  Scene s = MakeScene(n, seed);
+  std::mt19937 rng(seed + 1);
+  std::uniform_real_distribution<float> ripple(-0.05f, 0.05f);
+  for (int c = 0; c < 3; ++c)
+    for (Eigen::Index i = 0; i < s.Y[c].size(); ++i) s.Y[c].data()[i] += ripple(rng);
+  return s;
+}
+
+// The every-basis candidate of a leave-one-out fit, all bases but a few,
+// solved on the factor of all bases with the left-out weights pinned to zero
+// (the bordered system) scores every λ as its own tridiagonalisation does;
+// so does a class whose left-out basis the others almost span, where the
+// bordered solve cancels too much and the class is factored on the spot.
+TEST(LambdaChoice, AClassHeldOnItsSupersetsFactorScoresAsItsOwnFactor) {
+  const int n = 40, K = 5;
+  for (bool almost_spanned : {false, true}) {
+    SCOPED_TRACE(almost_spanned ? "a left-out basis almost spanned" : "independent bases");
+    Scene s = MakeFullRankScene(n, 21);
+    if (almost_spanned)
+      for (int c = 0; c < 3; ++c) s.Y[c].col(17) = s.Y[c].col(3) + 1e-6f * s.Y[c].col(30);
+    std::vector<int> members;
+    for (int i = 0; i < n; ++i)
+      if (i != 5 && i != 17 && i != 18) members.push_back(i);
+    const std::vector<std::vector<int>> classes = {members, {0, 1, 2, 3}};
+    const auto f = FactorBasisImages(s.Y);
+    const std::vector<int> fold = WedgeFolds(s.g, K);
+    const auto fold_gram = FoldGrams(s.Y, fold, K);
+    const std::vector<FoldClassFactor> all = FactorFoldsOfAll(f, fold_gram);
+    const CvSystem own = FactorFolds(f, fold_gram, classes, FoldQ::kReflectors);
+    const CvSystem held_on_all = FactorFolds(f, fold_gram, classes, FoldQ::kReflectors, &all);
+    for (int k = 0; k < K; ++k) {
+      EXPECT_TRUE(held_on_all.train[k][0].bordered());
+      EXPECT_EQ(held_on_all.train[k][0].left_out, (std::vector<int>{5, 17, 18}));
+      EXPECT_FALSE(held_on_all.train[k][1].bordered()) << "36 of 40 left out: factored on its own";
+      EXPECT_FALSE(own.train[k][0].bordered());
+    }
+    Eigen::MatrixXd w = Eigen::MatrixXd::Constant(n, 3, 1.0 / n);
+    w.row(7).setConstant(0.3), w.row(22).setConstant(-0.1);
+    const Eigen::MatrixXd y = NoisyRender(s, w, 0.01, 4);
+    LambdaChoiceOptions opt;
+    opt.grid = {0, 1e-6, 1e-4, 1e-2, 1, 100};
+    opt.max_condition = 1e300;
+    const Observation obs = MakeObservation(f, s.Y, y);
+    const std::vector<Observation> held = FoldObservations(s.Y, y, fold, K);
+    const std::vector<ClassSpectrum> spectra = FactorClasses(f, classes);
+    const LambdaChoice a = ChooseLambda(f, spectra, &own, obs, held, s.g.size(), opt);
+    const LambdaChoice b = ChooseLambda(f, spectra, &held_on_all, obs, held, s.g.size(), opt);
+    EXPECT_EQ(a.chosen_class, b.chosen_class);
+    EXPECT_EQ(a.lambda, b.lambda);
+    for (size_t j = 0; j < classes.size(); ++j)
+      for (size_t l = 0; l < opt.grid.size(); ++l) {
+        ASSERT_TRUE(std::isfinite(a.score[j][l])) << j << " " << l;
+        EXPECT_NEAR(b.score[j][l], a.score[j][l], 1e-8 * a.score[j][l]) << "class " << j << ", λ " << opt.grid[l];
+      }
+  }
+}
+
+// A class the superset does not hold in order, or not within kMostLeftOut,
+// is factored on its own.
+TEST(LambdaChoice, OnlyAClassOfTheSupersetsMembersButAFewIsHeldOnIt) {
+  const int n = 40, K = 3;
+  const Scene s = MakeFullRankScene(n, 22);
+  const auto f = FactorBasisImages(s.Y);
+  const auto fold_gram = FoldGrams(s.Y, WedgeFolds(s.g, K), K);
+  const std::vector<FoldClassFactor> all = FactorFoldsOfAll(f, fold_gram);
+  std::vector<int> few_out, many_out, reordered;
+  for (int i = 0; i < n; ++i) {
+    if (i != 9) few_out.push_back(i);
+    if (i >= kMostLeftOut + 1) many_out.push_back(i);
+  }
+  reordered = few_out;
+  std::swap(reordered[0], reordered[1]);
+  const CvSystem cv = FactorFolds(f, fold_gram, {few_out, many_out, reordered}, FoldQ::kReflectors, &all);
+  EXPECT_TRUE(cv.train[0][0].bordered());
+  EXPECT_EQ(cv.train[0][0].left_out, std::vector<int>{9});
+  EXPECT_FALSE(cv.train[0][1].bordered());
+  EXPECT_FALSE(cv.train[0][2].bordered());
+  EXPECT_EQ(cv.train[0][2].diagonal[0].size(), n - 1) << "its own tridiagonal factor";
+}
+
 TEST(LambdaChoice, ExactDataPicksTheSmallestLambdaAndPriorPlusNoiseTheLargest) {
   const Scene s = MakeScene(8, 4);
   const std::vector<int> fold = WedgeFolds(s.g, 6);

@@ -416,7 +416,8 @@ LooResult RunLeaveOneOut(const LooInputs& in, const LooOptions& opt) {
       const ClasswiseFit paper = SolveClasswise(fa, EigenvaluesOfClasses(fa, paper_members, auto_classes), obs, so);
       // The default fit: folds of this scene without material m's columns.
       const std::vector<Observation> held = HeldObservations(in.scenes[a].fold_gram, m);
-      const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members, FoldQ::kReflectors);
+      const CvSystem cv = FactorFolds(fa, in.scenes[a].fold_gram, auto_members, FoldQ::kReflectors,
+                                      in.scenes[a].fold_all.empty() ? nullptr : &in.scenes[a].fold_all);
       double pixel_noise = in.scenes[a].PhotoNoise(m);
       if (in.geometry && in.scenes[a].images) {
         // The photo is the material's own basis images.

@@ -44,6 +44,10 @@ struct SceneFactors {  // one probe's basis images, factored
   bool scoring_only = false;
   std::array<ChannelFactor, 3> f;                         // with the QR (least squares and the singular fallback)
   std::vector<std::array<Eigen::MatrixXd, 3>> fold_gram;  // per wedge of the sphere (FoldGrams), for "auto"
+  // Per wedge, every basis's training system (FactorFoldsOfAll), which each
+  // left-out material's every-basis candidate is solved on (FactorFolds'
+  // superset); empty: every candidate factored on its own.
+  std::vector<FoldClassFactor> fold_all;
   size_t pixels = 0;
   // RelativePixelNoise (photo_noise.h) of each scored material's photo under
   // this scene, for the condition bound of "auto"; empty: 0 (noise-free).
