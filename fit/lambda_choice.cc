@@ -249,62 +249,124 @@ Eigen::MatrixXd TridiagonalFoldSolves(const Eigen::VectorXd& d, const Eigen::Vec
   return X;
 }
 
-// The most a bordered solve may cancel, ‖u‖ / ‖d‖ (u the superset's
-// solution, d the class's after the left-out weights are pinned to zero):
-// the digits d loses to the subtraction. A left-out basis that the others
-// almost span makes the superset's system worse conditioned than the
-// class's own, and u large along that direction. On MERL's bases the ratio
-// is 10²–10⁵ for most solves (docs/benchmarks.md); past 10⁶, six of the
-// sixteen digits, the class is factored on its own instead.
-constexpr double kMostCancellation = 1e6;
+// The bordered solves of FoldClassFactor::superset, λ by λ: the superset's
+// factor A = Q T Qᵀ, the left-out rows R, and per λ the pivots of T + λI's
+// LDLᵀ recurrence, P = (T + λI)⁻¹ Qᵀ E (in T's frame) and S = Eᵀ Q P.
+class BorderedSystem {
+ public:
+  BorderedSystem(const FoldClassFactor& cls, int c, const Eigen::VectorXd& lj)
+      : Q_(cls.superset->Q[c]), dg_(cls.superset->diagonal[c]), e_(cls.superset->off_diagonal[c]),
+        left_out_(cls.left_out), QR_(Q_(cls.left_out, Eigen::all)) {
+    const Eigen::Index n = Q_.rows(), L = lj.size();
+    const double floor = 1e-13 * std::max(n ? dg_.cwiseAbs().maxCoeff() : 0.0, 1e-300);
+    piv_.resize(n, L);
+    for (Eigen::Index l = 0; l < L && ok_; ++l) {
+      for (Eigen::Index i = 0; i < n && ok_; ++i) {
+        piv_(i, l) = dg_[i] + lj[l] - (i > 0 ? e_[i - 1] * e_[i - 1] / piv_(i - 1, l) : 0.0);
+        ok_ = piv_(i, l) > floor;
+      }
+      if (!ok_) break;
+      P_.push_back(Tsolve(l, QR_.transpose()));
+      S_.emplace_back(QR_ * P_.back());
+      ok_ = S_.back().info() == Eigen::Success;
+    }
+  }
+  // False where a pivot is not positive or S is not positive definite.
+  bool ok() const { return ok_; }
+
+  // Column l of X (n × L, T's frame, rows R of Q X ignored): the solution
+  // in T's frame of (A + λ_l I) x = x_l with x pinned to zero at R.
+  Eigen::MatrixXd Solve(const Eigen::MatrixXd& X) const {
+    Eigen::MatrixXd out(X.rows(), X.cols());
+    for (Eigen::Index l = 0; l < X.cols(); ++l) {
+      const Eigen::VectorXd u = Tsolve(l, X.col(l));
+      out.col(l) = u - P_[static_cast<size_t>(l)] * S_[static_cast<size_t>(l)].solve(QR_ * u);
+    }
+    return out;
+  }
+  // Q X with the rows R set to zero (they are zero to rounding).
+  Eigen::MatrixXd ToBases(const Eigen::MatrixXd& Xh) const {
+    Eigen::MatrixXd X = Q_ * Xh;
+    X(left_out_, Eigen::all).setZero();
+    return X;
+  }
+  const Eigen::MatrixXd& Q() const { return Q_; }
+
+ private:
+  // (T + λ_l I)⁻¹ B by the stored pivots.
+  Eigen::MatrixXd Tsolve(Eigen::Index l, Eigen::MatrixXd B) const {
+    const Eigen::Index n = B.rows();
+    for (Eigen::Index i = 1; i < n; ++i) B.row(i) -= (e_[i - 1] / piv_(i - 1, l)) * B.row(i - 1);
+    for (Eigen::Index i = n - 1; i >= 0; --i) {
+      if (i + 1 < n) B.row(i) -= e_[i] * B.row(i + 1);
+      B.row(i) /= piv_(i, l);
+    }
+    return B;
+  }
+  const Eigen::MatrixXd& Q_;
+  const Eigen::VectorXd &dg_, &e_;
+  const std::vector<int>& left_out_;
+  const Eigen::MatrixXd QR_;  // Eᵀ Q: the rows R of Q
+  Eigen::MatrixXd piv_;       // n × L
+  std::vector<Eigen::MatrixXd> P_;
+  std::vector<Eigen::LLT<Eigen::MatrixXd>> S_;
+  bool ok_ = true;
+};
+
+// The most relative backward error a bordered solve may leave,
+// ‖r − (A_JJ + λI) d‖ / (‖A_JJ + λI‖_F ‖d‖ + ‖r‖): a solve of the class's
+// own tridiagonal factor leaves about 10⁻¹⁵. The bordered correction
+// subtracts (A + λI)⁻¹E S⁻¹Eᵀu from the superset's solution u, which is
+// large wherever the others nearly span a left-out basis (the superset's
+// system is worse conditioned than the class's own there), and loses digits
+// to the subtraction: on MERL's bases up to 10⁻⁷ of backward error. One step
+// of iterative refinement, its residual computed from A itself, brings every
+// one there to 10⁻¹³ or less (docs/benchmarks.md); past this bound the class
+// is factored on its own.
+constexpr double kMostBackwardError = 1e-12;
 
 // The bordered solves of FoldClassFactor::superset: for every λ_l of `lj`,
 // the class's (A_JJ + λ_l I) d = r (columns of `D`, k × L), from the
 // superset's A = Q T Qᵀ. With u = (A + λI)⁻¹ r̃ (r̃: r with zeros at the
 // left-out rows R) and P = (A + λI)⁻¹ E, d = u − P S⁻¹ Eᵀu, S = Eᵀ P: the
-// weights at R pinned to zero, the rest the smaller system's solution. False
-// where a pivot of T + λI is not positive, S is not positive definite, or d
-// cancels more than kMostCancellation: the caller factors the class.
+// weights at R pinned to zero, the rest the smaller system's solution; then
+// one step of refinement. False where a pivot of T + λI is not positive, S
+// is not positive definite, or the backward error exceeds
+// kMostBackwardError: the caller factors the class.
 bool BorderedFoldSolves(const FoldClassFactor& cls, int c, const Eigen::VectorXd& r, const Eigen::VectorXd& lj,
                         Eigen::MatrixXd* D) {
-  const FoldClassFactor& sup = *cls.superset;
-  const Eigen::MatrixXd& Q = sup.Q[c];
-  const Eigen::VectorXd& dg = sup.diagonal[c];
-  const Eigen::VectorXd& e = sup.off_diagonal[c];
-  const Eigen::Index n = Q.rows(), nr = static_cast<Eigen::Index>(cls.left_out.size()), L = lj.size();
-  const Eigen::Index m = nr + 1;  // right-hand sides: r̃, then E's columns
-  std::vector<char> kept(static_cast<size_t>(n), 1);
-  for (int i : cls.left_out) kept[static_cast<size_t>(i)] = 0;
+  const BorderedSystem sys(cls, c, lj);
+  if (!sys.ok()) return false;
+  const Eigen::MatrixXd& A = cls.superset->gram[c];
+  const Eigen::Index n = A.rows(), L = lj.size();
   std::vector<int> J;
   Eigen::VectorXd rt = Eigen::VectorXd::Zero(n);
-  for (Eigen::Index i = 0, j = 0; i < n; ++i)
-    if (kept[static_cast<size_t>(i)]) rt[i] = r[j++], J.push_back(static_cast<int>(i));
-  const Eigen::MatrixXd QR = Q(cls.left_out, Eigen::all);  // Eᵀ Q: nr × n
-  Eigen::MatrixXd rhs(m, n);                               // row-wise right-hand sides in T's frame, Qᵀ [r̃ E]
-  rhs.row(0) = (Q.transpose() * rt).transpose();
-  rhs.bottomRows(nr) = QR;
-  const double floor = 1e-13 * std::max(n ? dg.cwiseAbs().maxCoeff() : 0.0, 1e-300);
-  Eigen::MatrixXd Dh(n, L), U(m, n);
-  Eigen::VectorXd piv(n);
-  for (Eigen::Index l = 0; l < L; ++l) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      piv[i] = dg[i] + lj[l] - (i > 0 ? e[i - 1] * e[i - 1] / piv[i - 1] : 0.0);
-      if (!(piv[i] > floor)) return false;
-      U.col(i) = rhs.col(i);
-      if (i > 0) U.col(i) -= (e[i - 1] / piv[i - 1]) * U.col(i - 1);
-    }
-    for (Eigen::Index i = n - 1; i >= 0; --i) {
-      if (i + 1 < n) U.col(i) -= e[i] * U.col(i + 1);
-      U.col(i) /= piv[i];
-    }
-    const Eigen::VectorXd u = U.row(0).transpose();
-    const Eigen::MatrixXd P = U.bottomRows(nr).transpose();  // n × nr
-    const Eigen::LLT<Eigen::MatrixXd> S(QR * P);
-    if (S.info() != Eigen::Success) return false;
-    Dh.col(l) = u - P * S.solve(QR * u);
-    if (!(u.norm() <= kMostCancellation * Dh.col(l).norm())) return false;
+  {
+    std::vector<char> kept(static_cast<size_t>(n), 1);
+    for (int i : cls.left_out) kept[static_cast<size_t>(i)] = 0;
+    for (Eigen::Index i = 0, j = 0; i < n; ++i)
+      if (kept[static_cast<size_t>(i)]) rt[i] = r[j++], J.push_back(static_cast<int>(i));
   }
-  *D = (Q * Dh)(J, Eigen::all);
+  // r̃ − (A + λI) X per column, zero at R.
+  auto residual = [&](const Eigen::MatrixXd& X) {
+    Eigen::MatrixXd res = -(A * X);
+    res.colwise() += rt;
+    for (Eigen::Index l = 0; l < L; ++l) res.col(l) -= lj[l] * X.col(l);
+    res(cls.left_out, Eigen::all).setZero();
+    return res;
+  };
+  const Eigen::MatrixXd B = (sys.Q().transpose() * rt).replicate(1, L);
+  Eigen::MatrixXd Xh = sys.Solve(B);
+  Eigen::MatrixXd X = sys.ToBases(Xh);
+  Xh += sys.Solve(sys.Q().transpose() * residual(X));
+  X = sys.ToBases(Xh);
+  const Eigen::MatrixXd res = residual(X);
+  const double a_norm = A(J, J).norm(), r_norm = r.norm();
+  for (Eigen::Index l = 0; l < L; ++l) {
+    const double scale = (a_norm + lj[l] * std::sqrt(static_cast<double>(J.size()))) * X.col(l).norm() + r_norm;
+    if (!(res.col(l).norm() <= kMostBackwardError * scale)) return false;
+  }
+  *D = X(J, Eigen::all);
   return true;
 }
 
