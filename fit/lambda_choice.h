@@ -104,10 +104,11 @@ struct FoldClassFactor {
   //   [Eᵀ      0] [μ] = [0],
   // whose d is the solution of the smaller system (A_JJ + λI) d_J = b_J, at
   // a tridiagonal solve per left-out column and an r × r system per λ
-  // instead of a tridiagonalisation of its own. Where the bordered solve
-  // cancels too much to trust (BorderedFoldSolves) or meets a singular
-  // pivot, the class is factored on the spot, so the scores are those of its
-  // own factor either way. `gram` and the factors above stay empty;
+  // instead of a tridiagonalisation of its own, each solve refined once.
+  // Where a refined solve leaves more backward error than its own factor
+  // would allow (BorderedFoldSolves) or meets a singular pivot, the class is
+  // factored on the spot, so the scores are those of its own factor either
+  // way. `gram` and the factors above stay empty;
   // `gram_prior` is its own.
   const FoldClassFactor* superset = nullptr;
   std::vector<int> left_out;
