@@ -148,7 +148,13 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
   const int K = static_cast<int>(cv.held_gram.size());
   cv.train.resize(K);
   cv.held_class.resize(K);
-  if (superset) BRDFSHOT_CHECK(static_cast<int>(superset->size()) == K, "FactorFolds: one superset factor per fold");
+  if (superset) {
+    // Checked here: no exception may leave the OpenMP loop below.
+    BRDFSHOT_CHECK(static_cast<int>(superset->size()) == K, "FactorFolds: one superset factor per fold");
+    for (const FoldClassFactor& s : *superset)
+      BRDFSHOT_CHECK(s.Q[0].size() > 0 && s.Q[1].size() > 0 && s.Q[2].size() > 0,
+                     "FactorFolds: a superset factor needs Q formed");
+  }
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < K; ++k) {
     cv.train[k].resize(members.size());
@@ -159,7 +165,6 @@ CvSystem FactorFolds(const std::array<ChannelFactor, 3>& f, std::vector<std::arr
       if (superset && members[j].size() >= static_cast<size_t>(kLeastBorderedMembers) &&
           LeftOutOf(members[j], (*superset)[static_cast<size_t>(k)].members, &t.left_out)) {
         t.superset = &(*superset)[static_cast<size_t>(k)];
-        BRDFSHOT_CHECK(t.superset->Q[0].size() > 0, "FactorFolds: a superset factor needs Q formed");
         for (int c = 0; c < 3; ++c) {
           cv.held_class[k][j][c] = cv.held_gram[k][c](members[j], members[j]);
           t.gram_prior[c] =

@@ -370,7 +370,8 @@ Scene MakeFullRankScene(int n, uint32_t seed) {
 // solved on the factor of all bases with the left-out weights pinned to zero
 // (the bordered system) scores every λ as its own tridiagonalisation does;
 // so does a class whose left-out basis the others almost span, where the
-// bordered solve cancels too much and the class is factored on the spot.
+// superset's system meets a singular pivot at λ = 0 and the class is
+// factored on the spot.
 TEST(LambdaChoice, AClassHeldOnItsSupersetsFactorScoresAsItsOwnFactor) {
   const int n = 40, K = 5;
   for (bool almost_spanned : {false, true}) {
