@@ -11,8 +11,8 @@ namespace brdfshot {
 double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double lambda,
                         const Eigen::MatrixXd& metric) {
   const std::vector<int>& J = cls.members;
-  BRDFSHOT_CHECK(!J.empty() && lambda >= 0 && cls.has_vectors(),
-                 "a prior sensitivity needs a class with its eigenvectors and λ ≥ 0");
+  BRDFSHOT_CHECK(!J.empty() && lambda >= 0 && cls.solvable(),
+                 "a prior sensitivity needs a class with its eigenvectors or tridiagonal form and λ ≥ 0");
   BRDFSHOT_CHECK(metric.rows() == static_cast<Eigen::Index>(J.size()) && metric.cols() == metric.rows(),
                  "the BRDF metric is not over the class's bases");
   const Eigen::Index k = static_cast<Eigen::Index>(J.size());
@@ -24,13 +24,22 @@ double PriorSensitivity(const ClassSpectrum& cls, const Observation& obs, double
   // sensitivities per photo, and these products are their cost.
   Eigen::MatrixXd moves(k, 9);
   for (int c = 0; c < 3; ++c) {
+    const double scale = obs.norm2[c] / cj;  // λ_j = λ ‖y_c‖² / c_j, as SolveClass
+    if (cls.tridiagonal()) {
+      // The three solves through T (SolveClassSystem), the same w(λ).
+      const Eigen::Vector3d lj(lambda * scale, lambda / 10 * scale, std::max(10 * lambda, 1e-4) * scale);
+      const Eigen::MatrixXd w = SolveClassSystem(cls, c, obs.z[c](J) - cls.gram_prior[c], lj);
+      moves.col(3 * c) = w.col(0) + prior;
+      moves.col(3 * c + 1) = w.col(1) - w.col(0);
+      moves.col(3 * c + 2) = w.col(2) - w.col(0);
+      continue;
+    }
     const Eigen::VectorXd& e = cls.e[c];
     // w(λ) = μ' + V diag(1/(e + λ_j)) b with b = Vᵀ(z_J − G_JJ μ'), as
     // SolveFromSpectrum, with b projected once for the three λ; directions
     // with e + λ_j below 1e-13 e_max keep the prior.
     const Eigen::VectorXd b = cls.V[c].transpose() * (obs.z[c](J) - cls.gram_prior[c]);
     const double floor = 1e-13 * std::max(e[k - 1], 1e-300);
-    const double scale = obs.norm2[c] / cj;  // λ_j = λ ‖y_c‖² / c_j, as SolveClass
     const auto coefficients = [&](double l) {
       Eigen::VectorXd a(k);
       for (Eigen::Index i = 0; i < k; ++i) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
 #include <cmath>
 #include <random>
 
@@ -54,6 +56,43 @@ TEST(PriorSensitivity, GrowsWhereThePhotoHardlyExcitesADirection) {
       PriorSensitivity(FactorClasses(Factors(weak), {{0, 1}})[0], ObservationOf(weak, w), 0.01, metric);
   EXPECT_LT(s_strong, 0.01);
   EXPECT_GT(s_weak, 10 * s_strong);
+}
+
+// A class held tridiagonal against the definition, solved densely: w(λ) =
+// μ' + (G + λ_j I)⁻¹ (z − G μ') at λ, λ/10 and max(10λ, 10⁻⁴), the moves
+// measured in the metric relative to w, for a full-rank Gram matrix of
+// eigenvalues spread over eight decades.
+TEST(PriorSensitivity, ATridiagonalClassMatchesTheDenseDefinition) {
+  const int k = 10;
+  std::mt19937 rng(12);
+  std::normal_distribution<double> g;
+  Eigen::MatrixXd A(k, k), B(k, k);
+  for (Eigen::Index i = 0; i < A.size(); ++i) A(i) = g(rng), B(i) = g(rng);
+  const Eigen::MatrixXd U = Eigen::HouseholderQR<Eigen::MatrixXd>(A).householderQ();
+  Eigen::VectorXd ev(k);
+  for (int i = 0; i < k; ++i) ev[i] = std::pow(10.0, -8.0 + 8.0 * i / (k - 1));
+  const Eigen::MatrixXd G = U * ev.asDiagonal() * U.transpose();
+  const Eigen::MatrixXd metric = B * B.transpose() + Eigen::MatrixXd::Identity(k, k);
+  Eigen::VectorXd w(k);
+  for (int i = 0; i < k; ++i) w[i] = 0.1 + 0.05 * i;
+  const Observation obs = ObservationOf(G, w);
+  std::vector<int> J(k);
+  for (int i = 0; i < k; ++i) J[i] = i;
+  const ClassSpectrum tri = FactorClasses(Factors(G), {J}, SpectrumParts::kTridiagonal)[0];
+  ASSERT_TRUE(tri.tridiagonal());
+  const Eigen::VectorXd prior = Eigen::VectorXd::Constant(k, 1.0 / k);
+  const auto fit = [&](double lambda) {
+    Eigen::MatrixXd H = G;
+    H.diagonal().array() += lambda * obs.norm2[0] / k;
+    return Eigen::VectorXd(prior + H.llt().solve(obs.z[0] - G * prior));
+  };
+  for (double lambda : {0.01, 1e-5, 0.0}) {
+    const Eigen::VectorXd w0 = fit(lambda), down = fit(lambda / 10) - w0, up = fit(std::max(10 * lambda, 1e-4)) - w0;
+    const double n2 = w0.dot(metric * w0);
+    const double want = std::sqrt(down.dot(metric * down) / n2 + up.dot(metric * up) / n2);
+    EXPECT_GT(want, 1e-6) << "λ " << lambda;
+    EXPECT_NEAR(PriorSensitivity(tri, obs, lambda, metric), want, 1e-7 * want) << "λ " << lambda;
+  }
 }
 
 // λ = 0 has no decade below it; its step up is to 10⁻⁴, the grid's scale, so

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "fit/fit_confidence.h"
+#include "fit/tridiagonal.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -222,54 +223,17 @@ std::vector<double> WedgeWeights(const Observation& all, const std::vector<Obser
 }
 
 namespace {
-// (T + λ_l I) x_l = b for every λ_l of `lj`, T the tridiagonal matrix of
-// diagonal `d` and off-diagonal `e`, by the LDLᵀ recurrence: column l of the
-// result. Where a pivot is not positive (a singular system at λ = 0) the
-// column is zero, so the fold scores the prior alone: the
-// eigendecomposition's pseudo-inverse would keep only part of the data
-// there, and such a λ is beyond any condition bound, so it is never chosen
-// either way.
-Eigen::MatrixXd TridiagonalFoldSolves(const Eigen::VectorXd& d, const Eigen::VectorXd& e, const Eigen::VectorXd& b,
-                                      const Eigen::VectorXd& lj) {
-  const Eigen::Index k = d.size(), L = lj.size();
-  const double floor = 1e-13 * std::max(k ? d.cwiseAbs().maxCoeff() : 0.0, 1e-300);
-  // Every λ's recurrence side by side, row by row: each λ's arithmetic is
-  // its own recurrence's, but the divisions of different λ overlap instead
-  // of each waiting on the last.
-  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(k, L);
-  Eigen::MatrixXd piv(L, k), y(L, k);  // column i: every λ's pivot and forward value at row i
-  std::vector<char> ok(static_cast<size_t>(L), 1);
-  for (Eigen::Index i = 0; i < k; ++i) {
-    const double off = i > 0 ? e[i - 1] : 0.0;
-    for (Eigen::Index l = 0; l < L; ++l) {
-      if (!ok[static_cast<size_t>(l)]) continue;
-      piv(l, i) = d[i] + lj[l] - (i > 0 ? off * off / piv(l, i - 1) : 0.0);
-      ok[static_cast<size_t>(l)] = piv(l, i) > floor;
-      y(l, i) = b[i] - (i > 0 ? off * y(l, i - 1) / piv(l, i - 1) : 0.0);
-    }
-  }
-  for (Eigen::Index i = k - 1; i >= 0; --i)
-    for (Eigen::Index l = 0; l < L; ++l)
-      if (ok[static_cast<size_t>(l)]) X(i, l) = (y(l, i) - (i + 1 < k ? e[i] * X(i + 1, l) : 0.0)) / piv(l, i);
-  return X;
-}
-
 // The bordered solves of FoldClassFactor::superset, λ by λ: the superset's
 // factor A = Q T Qᵀ, the left-out rows R, and per λ the pivots of T + λI's
-// LDLᵀ recurrence, P = (T + λI)⁻¹ Qᵀ E (in T's frame) and S = Eᵀ Q P.
+// LDLᵀ recurrence (ShiftedTridiagonal), P = (T + λI)⁻¹ Qᵀ E (in T's frame) and S = Eᵀ Q P.
 class BorderedSystem {
  public:
   BorderedSystem(const FoldClassFactor& cls, int c, const Eigen::VectorXd& lj)
       : Q_(cls.superset->Q[c]), dg_(cls.superset->diagonal[c]), e_(cls.superset->off_diagonal[c]),
         left_out_(cls.left_out), QR_(Q_(cls.left_out, Eigen::all)) {
-    const Eigen::Index n = Q_.rows(), L = lj.size();
-    const double floor = 1e-13 * std::max(n ? dg_.cwiseAbs().maxCoeff() : 0.0, 1e-300);
-    piv_.resize(n, L);
-    for (Eigen::Index l = 0; l < L && ok_; ++l) {
-      for (Eigen::Index i = 0; i < n && ok_; ++i) {
-        piv_(i, l) = dg_[i] + lj[l] - (i > 0 ? e_[i - 1] * e_[i - 1] / piv_(i - 1, l) : 0.0);
-        ok_ = piv_(i, l) > floor;
-      }
+    for (Eigen::Index l = 0; l < lj.size() && ok_; ++l) {
+      shifted_.emplace_back(dg_, e_, lj[l]);
+      ok_ = shifted_.back().ok();
       if (!ok_) break;
       P_.push_back(Tsolve(l, QR_.transpose()));
       S_.emplace_back(QR_ * P_.back());
@@ -299,20 +263,14 @@ class BorderedSystem {
 
  private:
   // (T + λ_l I)⁻¹ B by the stored pivots.
-  Eigen::MatrixXd Tsolve(Eigen::Index l, Eigen::MatrixXd B) const {
-    const Eigen::Index n = B.rows();
-    for (Eigen::Index i = 1; i < n; ++i) B.row(i) -= (e_[i - 1] / piv_(i - 1, l)) * B.row(i - 1);
-    for (Eigen::Index i = n - 1; i >= 0; --i) {
-      if (i + 1 < n) B.row(i) -= e_[i] * B.row(i + 1);
-      B.row(i) /= piv_(i, l);
-    }
-    return B;
+  Eigen::MatrixXd Tsolve(Eigen::Index l, const Eigen::MatrixXd& B) const {
+    return shifted_[static_cast<size_t>(l)].Solve(B);
   }
   const Eigen::MatrixXd& Q_;
   const Eigen::VectorXd &dg_, &e_;
   const std::vector<int>& left_out_;
   const Eigen::MatrixXd QR_;  // Eᵀ Q: the rows R of Q
-  Eigen::MatrixXd piv_;       // n × L
+  std::vector<ShiftedTridiagonal> shifted_;  // T + λ_l I's pivots, per λ
   std::vector<Eigen::MatrixXd> P_;
   std::vector<Eigen::LLT<Eigen::MatrixXd>> S_;
   bool ok_ = true;
@@ -399,16 +357,21 @@ void AddFoldScores(const FoldClassFactor& cls, const std::array<Eigen::MatrixXd,
     const Eigen::VectorXd r = z_train - cls.gram_prior[c];
     Eigen::VectorXd lj(L);
     for (Eigen::Index l = 0; l < L; ++l) lj[l] = grid[l] * n2_train / cj;
-    Eigen::MatrixXd W;  // k × L: each λ's deviation from the prior
+    // k × L: each λ's deviation from the prior. A λ whose recurrence meets a
+    // pivot that is not positive (a singular system at λ = 0) keeps the
+    // prior alone: the eigendecomposition's pseudo-inverse would keep only
+    // part of the data there, and such a λ is beyond any condition bound, so
+    // it is never chosen either way.
+    Eigen::MatrixXd W;
     if (!cls.bordered() || !BorderedFoldSolves(cls, c, r, lj, &W)) {
       if (cls.bordered()) {
         // Factored on the spot: the bordered solve could not be trusted.
         const Eigen::MatrixXd A = cls.superset->gram[c](J, J);
         const Eigen::Tridiagonalization<Eigen::MatrixXd> tri(A);
         const Eigen::VectorXd e = k > 1 ? Eigen::VectorXd(tri.subDiagonal()) : Eigen::VectorXd();
-        W = tri.matrixQ() * TridiagonalFoldSolves(tri.diagonal(), e, tri.matrixQ().adjoint() * r, lj);
+        W = tri.matrixQ() * TridiagonalSolves(tri.diagonal(), e, tri.matrixQ().adjoint() * r, lj);
       } else {
-        W = cls.TimesQ(c, TridiagonalFoldSolves(cls.diagonal[c], cls.off_diagonal[c], cls.TimesQt(c, r), lj));
+        W = cls.TimesQ(c, TridiagonalSolves(cls.diagonal[c], cls.off_diagonal[c], cls.TimesQt(c, r), lj));
       }
     }
     W.colwise() += prior;
@@ -436,11 +399,28 @@ std::vector<std::array<ChannelResidual, 3>> ResidualCurve(const ClassSpectrum& c
     const Eigen::VectorXd zJ = obs.z[c](J);
     const Eigen::VectorXd r = zJ - cls.gram_prior[c];
     const double r0 = prior.dot(cls.gram_prior[c]) - 2 * prior.dot(zJ) + obs.norm2[c];
-    const Eigen::VectorXd b = cls.V[c].transpose() * r;
     const Eigen::VectorXd& e = cls.e[c];
     // Directions with no eigenvalue left (a singular system at λ = 0) are
     // dropped: the pseudo-inverse's residual.
     const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
+    if (cls.tridiagonal()) {
+      // No eigenvectors to project on: each λ's solve v = (G + λ_j I)⁺ r
+      // gives ‖y − Y(μ' + v)‖² = r0 − 2 vᵀr + vᵀG v, and the effective
+      // parameter count needs the eigenvalues alone.
+      Eigen::VectorXd lj(static_cast<Eigen::Index>(grid.size()));
+      for (size_t l = 0; l < grid.size(); ++l) lj[static_cast<Eigen::Index>(l)] = grid[l] * obs.norm2[c] / cj;
+      const Eigen::MatrixXd v = SolveClassSystem(cls, c, r, lj);
+      const Eigen::MatrixXd Gv = cls.gram[c] * v;
+      for (size_t l = 0; l < grid.size(); ++l) {
+        const Eigen::Index li = static_cast<Eigen::Index>(l);
+        ChannelResidual& out_c = out[l][c];
+        out_c.rss = std::max(0.0, r0 - 2 * v.col(li).dot(r) + v.col(li).dot(Gv.col(li)));
+        for (Eigen::Index i = 0; i < k; ++i)
+          if (e[i] + lj[li] > floor) out_c.dof += e[i] / (e[i] + lj[li]);
+      }
+      continue;
+    }
+    const Eigen::VectorXd b = cls.V[c].transpose() * r;
     for (size_t l = 0; l < grid.size(); ++l) {
       const double lj = grid[l] * obs.norm2[c] / cj;
       ChannelResidual& out_c = out[l][c];
@@ -782,7 +762,7 @@ double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t
                         const std::vector<double>& grid, double max_condition) {
   const double total = obs.norm2[0] + obs.norm2[1] + obs.norm2[2];
   const double n = static_cast<double>(pixels);
-  if (cls.members.empty() || !cls.has_vectors() || !(total > 0) || pixels == 0) return -1;
+  if (cls.members.empty() || !cls.solvable() || !(total > 0) || pixels == 0) return -1;
   const double lambda = LeastLambdaWithin(cls, obs, grid, max_condition);
   if (lambda < 0) return -1;
   const auto curve = ResidualCurve(cls, obs, {lambda});
@@ -793,7 +773,7 @@ double FitResidualNoise(const ClassSpectrum& cls, const Observation& obs, size_t
 
 Eigen::MatrixXd LeastRegularisedWeights(const ClassSpectrum& cls, const Observation& obs,
                                         const std::vector<double>& grid, double max_condition) {
-  if (cls.members.empty() || !cls.has_vectors()) return {};
+  if (cls.members.empty() || !cls.solvable()) return {};
   const double lambda = LeastLambdaWithin(cls, obs, grid, max_condition);
   if (lambda < 0) return {};
   const double cj = static_cast<double>(cls.members.size());

@@ -761,6 +761,13 @@ TEST(FitResidualNoise, IsTheResidualOfTheLeastSquaresFitPerFreePixel) {
   const double want = std::sqrt(rss / (3 * (n - 4))) / rms;
   const double got = FitResidualNoise(cls[0], obs, s.g.size(), {0, 1e-3, 1}, 1e300);
   EXPECT_NEAR(got, want, 1e-6 * want);
+  // Held tridiagonal (no eigenvectors to project on), the same residual and
+  // free pixels, at λ = 0 and at the least λ of a grid without it.
+  const ClassSpectrum tri = FactorClasses(f, {{0, 1, 2, 3}}, SpectrumParts::kTridiagonal)[0];
+  EXPECT_NEAR(FitResidualNoise(tri, obs, s.g.size(), {0, 1e-3, 1}, 1e300), want, 1e-6 * want);
+  const double at_1e3 = FitResidualNoise(cls[0], obs, s.g.size(), {1e-3, 1}, 1e300);
+  EXPECT_GT(std::abs(at_1e3 - got), 1e-5 * got) << "λ = 10⁻³ must read differently for the comparison to mean anything";
+  EXPECT_NEAR(FitResidualNoise(tri, obs, s.g.size(), {1e-3, 1}, 1e300), at_1e3, 1e-9 * at_1e3);
   EXPECT_NEAR(got * rms, sigma, 0.1 * sigma);
   // The least λ within the bound: with a bound no λ meets, none.
   EXPECT_EQ(FitResidualNoise(cls[0], obs, s.g.size(), {0}, 1.0), -1);

@@ -91,7 +91,8 @@ std::vector<std::vector<int>> MembersInFull(const ClassModel& model, const std::
 
 // The candidates' spectra: the model's classes as `classes` already holds
 // them (CandidateMembers lists them first), the rest (every basis) factored
-// here.
+// here in tridiagonal form: it is factored for every material and scene, and
+// its eigenvectors would cost about twice as much (SpectrumParts).
 std::vector<ClassSpectrum> CandidateSpectra(const std::array<ChannelFactor, 3>& f,
                                             const std::vector<ClassSpectrum>& classes,
                                             const std::vector<std::vector<int>>& candidates) {
@@ -100,7 +101,8 @@ std::vector<ClassSpectrum> CandidateSpectra(const std::array<ChannelFactor, 3>& 
     BRDFSHOT_CHECK(candidates[j] == classes[j].members, "the candidates do not begin with the classes");
   std::vector<ClassSpectrum> out = classes;
   for (ClassSpectrum& s :
-       FactorClasses(f, {candidates.begin() + static_cast<std::ptrdiff_t>(classes.size()), candidates.end()}))
+       FactorClasses(f, {candidates.begin() + static_cast<std::ptrdiff_t>(classes.size()), candidates.end()},
+                     SpectrumParts::kTridiagonal))
     out.push_back(std::move(s));
   return out;
 }
@@ -108,8 +110,8 @@ std::vector<ClassSpectrum> CandidateSpectra(const std::array<ChannelFactor, 3>& 
 // The printed M-step's classes, eigenvalues only (it is solved once at its
 // fixed λ). It leaves one class of every basis, whose spectrum the default's
 // every-basis candidate already holds: taken from `known` where the members
-// are the same (the same eigenvalues: the solver's are computed alike with or
-// without the vectors), factored otherwise.
+// are the same (its eigenvalues, all that a solve at one λ needs, are those of
+// G_JJ however it was factored, to rounding), factored otherwise.
 std::vector<ClassSpectrum> EigenvaluesOfClasses(const std::array<ChannelFactor, 3>& f,
                                                 const std::vector<std::vector<int>>& members,
                                                 const std::vector<ClassSpectrum>& known) {
@@ -121,6 +123,8 @@ std::vector<ClassSpectrum> EigenvaluesOfClasses(const std::array<ChannelFactor, 
     } else {
       out.push_back(*same);
       out.back().V = {};
+      out.back().Q = {};
+      out.back().diagonal = out.back().off_diagonal = {};
     }
   }
   return out;

@@ -9,6 +9,7 @@
 
 #include "fit/bin_constraints.h"
 #include "fit/nonneg.h"
+#include "fit/tridiagonal.h"
 #include "util/check.h"
 
 namespace brdfshot {
@@ -102,12 +103,23 @@ std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
                                          const std::vector<std::vector<int>>& members, SpectrumParts parts) {
   const bool vectors = parts == SpectrumParts::kValuesAndVectors;
   std::vector<ClassSpectrum> out(members.size());
+  const bool tridiagonal = parts == SpectrumParts::kTridiagonal;
   for (size_t j = 0; j < members.size(); ++j) {
     out[j].members = members[j];
     if (members[j].empty()) continue;
     for (int c = 0; c < 3; ++c) {
       out[j].gram[c] = f[c].gram(members[j], members[j]);
       out[j].gram_prior[c] = out[j].gram[c].rowwise().sum() / static_cast<double>(members[j].size());
+      if (tridiagonal) {
+        const Eigen::Tridiagonalization<Eigen::MatrixXd> tri(out[j].gram[c]);
+        out[j].diagonal[c] = tri.diagonal();
+        out[j].off_diagonal[c] = members[j].size() > 1 ? Eigen::VectorXd(tri.subDiagonal()) : Eigen::VectorXd();
+        out[j].Q[c] = tri.matrixQ();
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+        eig.computeFromTridiagonal(out[j].diagonal[c], out[j].off_diagonal[c], Eigen::EigenvaluesOnly);
+        out[j].e[c] = eig.eigenvalues().cwiseMax(0.0);
+        continue;
+      }
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(out[j].gram[c],
                                                          vectors ? Eigen::ComputeEigenvectors : Eigen::EigenvaluesOnly);
       out[j].e[c] = eig.eigenvalues().cwiseMax(0.0);  // rounding can leave a singular G slightly negative
@@ -141,7 +153,64 @@ Eigen::VectorXd SolveRidge(const Eigen::MatrixXd& A, const Eigen::VectorXd& z, d
   return prior + Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(aug).solve(rhs);
 }
 
+namespace {
+double SpectrumFloor(const Eigen::VectorXd& e) { return 1e-13 * std::max(e.size() ? e[e.size() - 1] : 0.0, 1e-300); }
+
+// The eigenvectors of a class held tridiagonal, Q U with T = U diag(e) Uᵀ,
+// and those e: for the λ below SolveClassSystem's floor, where the
+// pseudo-inverse needs the directions themselves.
+std::pair<Eigen::MatrixXd, Eigen::VectorXd> VectorsOfTridiagonal(const ClassSpectrum& cls, int c) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+  eig.computeFromTridiagonal(cls.diagonal[c], cls.off_diagonal[c], Eigen::ComputeEigenvectors);
+  return {cls.Q[c] * eig.eigenvectors(), eig.eigenvalues().cwiseMax(0.0)};
+}
+
+// Σ_i v_i v_iᵀ b / (e_i + λ_l) per λ_l, the directions at or below the floor left out.
+Eigen::MatrixXd SpectralSolves(const Eigen::MatrixXd& V, const Eigen::VectorXd& e, const Eigen::VectorXd& r,
+                               const Eigen::VectorXd& lj) {
+  const Eigen::VectorXd b = V.transpose() * r;
+  const double floor = SpectrumFloor(e);
+  Eigen::MatrixXd D(e.size(), lj.size());
+  for (Eigen::Index l = 0; l < lj.size(); ++l)
+    for (Eigen::Index i = 0; i < e.size(); ++i) D(i, l) = e[i] + lj[l] > floor ? b[i] / (e[i] + lj[l]) : 0.0;
+  return V * D;
+}
+}  // namespace
+
+Eigen::MatrixXd SolveClassSystem(const ClassSpectrum& cls, int c, const Eigen::VectorXd& r, const Eigen::VectorXd& lj) {
+  BRDFSHOT_CHECK(cls.solvable(), "a solve at any λ needs the class's eigenvectors or its tridiagonal form");
+  BRDFSHOT_CHECK(r.size() == static_cast<Eigen::Index>(cls.members.size()), "a class solve's right side has "
+                                                                                << r.size() << " rows for "
+                                                                                << cls.members.size() << " members");
+  if (cls.members.empty()) return Eigen::MatrixXd(0, lj.size());
+  if (!cls.tridiagonal()) return SpectralSolves(cls.V[c], cls.e[c], r, lj);
+  const Eigen::VectorXd& e = cls.e[c];
+  const double floor = SpectrumFloor(e);
+  std::vector<char> solved;
+  Eigen::MatrixXd X = TridiagonalSolves(cls.diagonal[c], cls.off_diagonal[c], cls.Q[c].transpose() * r, lj, &solved);
+  // A λ at or below the floor leaves directions out, which only the
+  // eigenvectors can; a pivot that fails above it (rounding at the floor's
+  // edge) is taken the same way.
+  std::vector<Eigen::Index> spectral;
+  for (Eigen::Index l = 0; l < lj.size(); ++l)
+    if (!(e[0] + lj[l] > floor) || !solved[static_cast<size_t>(l)]) spectral.push_back(l);
+  Eigen::MatrixXd W = cls.Q[c] * X;
+  if (!spectral.empty()) {
+    const auto [V, ev] = VectorsOfTridiagonal(cls, c);
+    Eigen::VectorXd lj_spectral(static_cast<Eigen::Index>(spectral.size()));
+    for (size_t i = 0; i < spectral.size(); ++i) lj_spectral[static_cast<Eigen::Index>(i)] = lj[spectral[i]];
+    const Eigen::MatrixXd Ws = SpectralSolves(V, ev, r, lj_spectral);
+    for (size_t i = 0; i < spectral.size(); ++i) W.col(spectral[i]) = Ws.col(static_cast<Eigen::Index>(i));
+  }
+  return W;
+}
+
 Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::VectorXd& zJ, double lambda_j) {
+  if (cls.tridiagonal()) {
+    const Eigen::Index k = static_cast<Eigen::Index>(cls.members.size());
+    return SolveClassSystem(cls, c, zJ - cls.gram_prior[c], Eigen::VectorXd::Constant(1, lambda_j)).col(0) +
+           Eigen::VectorXd::Constant(k, 1.0 / static_cast<double>(k));
+  }
   BRDFSHOT_CHECK(cls.has_vectors(), "a solve through the spectrum needs the class's eigenvectors");
   const Eigen::VectorXd& e = cls.e[c];
   const Eigen::Index k = e.size();
@@ -156,16 +225,27 @@ Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::
 }
 
 namespace {
-// (G_JJ + λ_j I)⁺ of channel c through the class's spectrum, with the floor of
+// V diag(1/(e + λ_j)) Vᵀ, the directions at or below the floor left out.
+Eigen::MatrixXd SpectralInverse(const Eigen::MatrixXd& V, const Eigen::VectorXd& e, double lambda_j) {
+  const double floor = SpectrumFloor(e);
+  Eigen::VectorXd inv(e.size());
+  for (Eigen::Index i = 0; i < e.size(); ++i) inv[i] = e[i] + lambda_j > floor ? 1.0 / (e[i] + lambda_j) : 0.0;
+  return V * inv.asDiagonal() * V.transpose();
+}
+
+// (G_JJ + λ_j I)⁺ of channel c through the class's factor, with the floor of
 // SolveFromSpectrum: directions it leaves at the prior, this leaves alone.
 Eigen::MatrixXd SpectrumInverse(const ClassSpectrum& cls, int c, double lambda_j) {
-  BRDFSHOT_CHECK(cls.has_vectors(), "the bin constraint needs the class's eigenvectors");
-  const Eigen::VectorXd& e = cls.e[c];
-  const Eigen::Index k = e.size();
-  const double floor = 1e-13 * std::max(k ? e[k - 1] : 0.0, 1e-300);
-  Eigen::VectorXd inv(k);
-  for (Eigen::Index i = 0; i < k; ++i) inv[i] = e[i] + lambda_j > floor ? 1.0 / (e[i] + lambda_j) : 0.0;
-  return cls.V[c] * inv.asDiagonal() * cls.V[c].transpose();
+  BRDFSHOT_CHECK(cls.solvable() && !cls.members.empty(),
+                 "the bin constraint needs the class's eigenvectors or its tridiagonal form");
+  if (!cls.tridiagonal()) return SpectralInverse(cls.V[c], cls.e[c], lambda_j);
+  // Q (T + λ_j I)⁻¹ Qᵀ where T's recurrence holds, T's eigenvectors where
+  // it does not (SolveClassSystem's rule).
+  const ShiftedTridiagonal shifted(cls.diagonal[c], cls.off_diagonal[c], lambda_j);
+  if (cls.e[c][0] + lambda_j > SpectrumFloor(cls.e[c]) && shifted.ok())
+    return cls.Q[c] * shifted.Solve(cls.Q[c].transpose());
+  const auto [V, e] = VectorsOfTridiagonal(cls, c);
+  return SpectralInverse(V, e, lambda_j);
 }
 }  // namespace
 
@@ -215,7 +295,7 @@ ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpect
     } else if (kappa > kMaxNormalCondition && f[c].has_qr() && obs.z_qr[c].size()) {
       W.col(c) = SolveRidge(f[c].R(Eigen::all, J), obs.z_qr[c], lj[c], prior);
       worst = std::max(worst, 2);
-    } else if (cls.has_vectors()) {
+    } else if (cls.solvable()) {
       W.col(c) = SolveFromSpectrum(cls, c, zJ, lj[c]);
       if (kappa > kMaxNormalCondition) worst = std::max(worst, 1);
     } else {

@@ -71,29 +71,51 @@ Eigen::VectorXd ProjectRows(const MatrixXfR& Y, const Eigen::VectorXd& y, const 
 // from the factors, as leave-one-out needs.
 Observation BasisObservation(const std::array<ChannelFactor, 3>& f, const std::array<int, 3>& col);
 
-// G_JJ = V diag(e) Vᵀ per channel for one class (e ascending, clamped at 0).
+// G_JJ = V diag(e) Vᵀ per channel for one class (e ascending, clamped at 0),
+// or, factored with SpectrumParts::kTridiagonal, G_JJ = Q T Qᵀ with its
+// eigenvalues e and no V.
 struct ClassSpectrum {
   std::vector<int> members;
   std::array<Eigen::VectorXd, 3> e;
-  std::array<Eigen::MatrixXd, 3> V;     // empty when factored with SpectrumParts::kEigenvalues
+  std::array<Eigen::MatrixXd, 3> V;     // empty unless factored with SpectrumParts::kValuesAndVectors
   std::array<Eigen::MatrixXd, 3> gram;  // G_JJ
   // G_JJ μ', μ' the class prior (1/|J| for each member): every solve,
   // residual and sensitivity starts from z_J − G_JJ μ', so it is formed once
   // per class, not once per photo and λ.
   std::array<Eigen::VectorXd, 3> gram_prior;
+  // SpectrumParts::kTridiagonal: Q formed, T's diagonal and off-diagonal.
+  std::array<Eigen::MatrixXd, 3> Q;
+  std::array<Eigen::VectorXd, 3> diagonal, off_diagonal;
   bool has_vectors() const { return members.empty() || V[0].size() > 0; }
+  bool tridiagonal() const { return !members.empty() && Q[0].size() > 0; }
+  // Whether it solves at any λ through its factor (SolveClassSystem).
+  bool solvable() const { return has_vectors() || tridiagonal(); }
 };
 // What FactorClasses computes. The eigenvalues give the condition numbers and
-// the λ search's bound; the eigenvectors are what makes a solve at any λ two
-// small products, which the chosen class's solve, GCV, the prior sensitivity
-// and the bin constraint use. A class solved once at one fixed λ needs only
-// the eigenvalues — about a fifth of the whole decomposition's time (4.7
-// against 22 ms at 297 bases) — and SolveClass then takes a Cholesky factor of
-// G_JJ + λ_j I where it is well conditioned (the QR route where not).
-enum class SpectrumParts { kValuesAndVectors, kEigenvalues };
+// the λ search's bound; the eigenvectors or the tridiagonal form are what
+// makes a solve at any λ two small products, which the chosen class's solve,
+// GCV, the prior sensitivity and the bin constraint use. A class solved once
+// at one fixed λ needs only the eigenvalues — about a fifth of the whole
+// decomposition's time (4.7 against 22 ms at 297 bases) — and SolveClass then
+// takes a Cholesky factor of G_JJ + λ_j I where it is well conditioned (the
+// QR route where not). The tridiagonal form with Q formed and T's eigenvalues
+// costs about half of the eigenvectors (the QR iteration's rotations
+// accumulated into V are most of their cost) and serves every λ whose
+// e_min + λ_j stays above SolveClassSystem's floor, which the condition bound
+// keeps every λ the search may pick at; below it, the eigenvectors of T are
+// computed for that solve.
+enum class SpectrumParts { kValuesAndVectors, kEigenvalues, kTridiagonal };
 std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
                                          const std::vector<std::vector<int>>& members,
                                          SpectrumParts parts = SpectrumParts::kValuesAndVectors);
+
+// (G_JJ + λ_l I)⁺ r for every λ_l of `lj`, channel c of a solvable class:
+// column l. Directions with e + λ_l at or below 10⁻¹³ e_max are left out (the
+// minimum-norm correction). Through V where the class holds it; through
+// Q and T's recurrence (fit/tridiagonal.h) where it is held tridiagonal and
+// e_min + λ_l is above that floor, else through T's eigenvectors, computed
+// for that call.
+Eigen::MatrixXd SolveClassSystem(const ClassSpectrum& cls, int c, const Eigen::VectorXd& r, const Eigen::VectorXd& lj);
 
 struct SolveOptions {
   double lambda = 0.5;
@@ -143,7 +165,7 @@ struct WeightConstraint {
 
 // One class's solve over R, G, B at weight λ (λ_j = λ‖y_c‖²/c_j per channel),
 // under `constraint` (path "nonneg-weights" / "nonneg-bins" when one applies).
-// A class without eigenvectors is solved by Cholesky (path "normal") while
+// A class neither with eigenvectors nor tridiagonal is solved by Cholesky (path "normal") while
 // κ ≤ kMaxNormalCondition, else by the QR route; without either (no QR) or
 // under the bin constraint it is an internal error.
 ClassSolution SolveClass(const std::array<ChannelFactor, 3>& f, const ClassSpectrum& cls, const Observation& obs,
@@ -154,7 +176,8 @@ double ClassResidual(const ClassSpectrum& cls, const Observation& obs, const Eig
 
 // w_J = μ' + V diag(1/(e + λ_j)) Vᵀ (z_J − G_JJ μ') for channel c of a class:
 // the normal equations through the class's spectrum, any λ_j ≥ 0 (directions
-// with e + λ_j below 1e-13 e_max keep the prior).
+// with e + λ_j below 1e-13 e_max keep the prior); SolveClassSystem for a
+// class held tridiagonal.
 Eigen::VectorXd SolveFromSpectrum(const ClassSpectrum& cls, int c, const Eigen::VectorXd& zJ, double lambda_j);
 
 // One regularised solve: argmin ‖A w − z‖² + lambda ‖w − prior‖², by a QR of

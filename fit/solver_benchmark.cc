@@ -309,6 +309,34 @@ BENCHMARK_CAPTURE(BM_EveryBasisSpectrum, tridiagonal_q, Spectrum::kTridiagonalWi
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The every-basis candidate's factor over R, G, B as the leave-one-out
+// evaluation takes it (FactorClasses, 297 bases), held by its eigenvectors or
+// in tridiagonal form, and then the solves one fit asks of it per channel:
+// the noise reading's and the pick's at one λ each and the sensitivity's
+// three λ.
+void BM_EveryBasisFactorAndSolves(benchmark::State& state, SpectrumParts parts) {
+  const Problem& p = TheProblem();
+  static const std::array<ChannelFactor, 3> f = FactorBasisImages(p.Y, false);
+  std::vector<int> J(297);
+  for (int i = 0; i < 297; ++i) J[static_cast<size_t>(i)] = i;
+  const Eigen::VectorXd lj = Eigen::Vector3d(1e-6, 1e-7, 1e-5) * f[0].gram.diagonal().mean();
+  for (auto _ : state) {
+    const ClassSpectrum cls = FactorClasses(f, {J}, parts)[0];
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::VectorXd r = Eigen::VectorXd::Ones(297) - cls.gram_prior[c];
+      benchmark::DoNotOptimize(SolveClassSystem(cls, c, r, lj.head(1)).data());
+      benchmark::DoNotOptimize(SolveClassSystem(cls, c, r, lj.head(1)).data());
+      benchmark::DoNotOptimize(SolveClassSystem(cls, c, r, lj).data());
+    }
+  }
+}
+BENCHMARK_CAPTURE(BM_EveryBasisFactorAndSolves, eigenvectors, SpectrumParts::kValuesAndVectors)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_EveryBasisFactorAndSolves, tridiagonal, SpectrumParts::kTridiagonal)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 }  // namespace
 }  // namespace brdfshot
 

@@ -92,6 +92,72 @@ TEST(Solver, AClassWithoutEigenvectorsSolvesAsTheFullSpectrumDoes) {
             1e-7 * w.norm());
 }
 
+// A class held tridiagonal solves as the same class held by its eigenvectors,
+// and both as a dense Cholesky of G_JJ + λ_j I where that is positive
+// definite: at shifts from well to badly conditioned, at λ = 0 on a singular
+// class (two equal bases: the eigenvectors of T give the pseudo-inverse), and
+// under the bin constraint, whose solves go through (G_JJ + λ_j I)⁺.
+TEST(Solver, ATridiagonalClassSolvesAsItsEigenvectorsDo) {
+  auto Y = Images(400, 40, 31);
+  for (auto& y : Y) y.col(39) = y.col(38);
+  const auto f = FactorBasisImages(Y, false);  // no QR: every λ goes through the factor
+  std::vector<int> J(40);
+  for (int j = 0; j < 40; ++j) J[j] = j;
+  const ClassSpectrum full = FactorClasses(f, {J})[0];
+  const ClassSpectrum tri = FactorClasses(f, {J}, SpectrumParts::kTridiagonal)[0];
+  ASSERT_TRUE(tri.tridiagonal() && tri.solvable());
+  ASSERT_FALSE(tri.has_vectors());
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(0, 1);
+  Eigen::MatrixXd w(40, 3);
+  for (Eigen::Index i = 0; i < w.size(); ++i) w(i) = u(rng);
+  const Observation obs = MakeObservation(f, Y, Render(Y, w));
+  for (int c = 0; c < 3; ++c) {
+    const double emax = full.e[c][39];
+    EXPECT_LT((tri.e[c] - full.e[c]).cwiseAbs().maxCoeff(), 1e-12 * emax) << "channel " << c;
+    ASSERT_LT(full.e[c][0], 1e-13 * emax) << "the twins must make the class singular for the test to mean anything";
+    const Eigen::VectorXd r = obs.z[c](J) - full.gram_prior[c];
+    const Eigen::VectorXd lj = (Eigen::VectorXd(4) << 1e-2, 1e-6, 1e-10, 0.0).finished() * emax;
+    const Eigen::MatrixXd a = SolveClassSystem(full, c, r, lj), b = SolveClassSystem(tri, c, r, lj);
+    for (Eigen::Index l = 0; l < lj.size(); ++l) {
+      EXPECT_LT((a.col(l) - b.col(l)).norm(), 1e-6 * a.col(l).norm()) << "channel " << c << ", λ_j " << lj[l];
+      if (lj[l] == 0) continue;
+      Eigen::MatrixXd H = full.gram[c];
+      H.diagonal().array() += lj[l];
+      const Eigen::VectorXd x = H.llt().solve(r);
+      EXPECT_LT((b.col(l) - x).norm(), 1e-6 * x.norm()) << "channel " << c << ", λ_j " << lj[l];
+    }
+    // λ = 0: the minimum-norm correction gives the twins equal shares.
+    EXPECT_NEAR(b(38, 3), b(39, 3), 1e-6 * b.col(3).norm()) << "channel " << c;
+  }
+  for (double lambda : {0.5, 1e-3, 0.0}) {
+    const ClassSolution a = SolveClass(f, full, obs, lambda), b = SolveClass(f, tri, obs, lambda);
+    EXPECT_EQ(a.path, b.path) << "λ " << lambda;
+    EXPECT_LT((a.weights - b.weights).norm(), 1e-6 * a.weights.norm()) << "λ " << lambda;
+  }
+  MatrixXfR tables(64, 40);
+  std::uniform_real_distribution<float> uf(0.0f, 1.0f);
+  for (Eigen::Index i = 0; i < tables.size(); ++i) tables.data()[i] = uf(rng);
+  for (int i = 0; i < 8; ++i) {
+    tables.row(i).setZero();  // bins that basis 4 (of the large scale) alone holds
+    tables(i, 4) = 1;
+  }
+  Eigen::MatrixXd v = w;
+  v.row(4).setConstant(-0.5);  // a difference of bases: the free fit goes negative at the bins basis 4 holds
+  const Observation obs_v = MakeObservation(f, Y, Render(Y, v));
+  const BinRows bins = BinRows::EveryNth(tables, J, 1);
+  WeightConstraint constraint;
+  constraint.kind = WeightConstraint::Kind::kBins;
+  constraint.bins = &bins;
+  for (double lambda : {1e-4, 1e-6}) {
+    const ClassSolution a = SolveClass(f, full, obs_v, lambda, constraint);
+    const ClassSolution b = SolveClass(f, tri, obs_v, lambda, constraint);
+    EXPECT_LT((tables.cast<double>() * a.unconstrained_weights).minCoeff(), 0)
+        << "the free fit must go negative for the test to mean anything";
+    EXPECT_LT((a.weights - b.weights).norm(), 1e-6 * a.weights.norm()) << "λ " << lambda;
+  }
+}
+
 TEST(Solver, ClassMeanIsRecoveredExactlyWithItsClass) {
   // The regulariser pulls towards μ' = 1/c_j, so a material equal to class 1's
   // mean is a fixed point for any λ: weights and class must come back exactly.
