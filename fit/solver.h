@@ -101,9 +101,10 @@ struct ClassSpectrum {
 // QR route where not). The tridiagonal form with Q formed and T's eigenvalues
 // costs about half of the eigenvectors (the QR iteration's rotations
 // accumulated into V are most of their cost) and serves every λ whose
-// e_min + λ_j stays above SolveClassSystem's floor, which the condition bound
-// keeps every λ the search may pick at; below it, the eigenvectors of T are
-// computed for that solve.
+// e_min + λ_j stays above SolveClassSystem's floor (10⁻¹³ e_max), as a
+// condition bound of at most 10¹³ keeps every λ the search may pick (the
+// default's is at most 10¹²); below it, the eigenvectors of T are computed
+// for that solve.
 enum class SpectrumParts { kValuesAndVectors, kEigenvalues, kTridiagonal };
 std::vector<ClassSpectrum> FactorClasses(const std::array<ChannelFactor, 3>& f,
                                          const std::vector<std::vector<int>>& members,
