@@ -179,9 +179,8 @@ Eigen::MatrixXd SpectralSolves(const Eigen::MatrixXd& V, const Eigen::VectorXd& 
 
 Eigen::MatrixXd SolveClassSystem(const ClassSpectrum& cls, int c, const Eigen::VectorXd& r, const Eigen::VectorXd& lj) {
   BRDFSHOT_CHECK(cls.solvable(), "a solve at any λ needs the class's eigenvectors or its tridiagonal form");
-  BRDFSHOT_CHECK(r.size() == static_cast<Eigen::Index>(cls.members.size()), "a class solve's right side has "
-                                                                                << r.size() << " rows for "
-                                                                                << cls.members.size() << " members");
+  BRDFSHOT_CHECK(r.size() == static_cast<Eigen::Index>(cls.members.size()),
+                 "a class solve's right side has " << r.size() << " rows for " << cls.members.size() << " members");
   if (cls.members.empty()) return Eigen::MatrixXd(0, lj.size());
   if (!cls.tridiagonal()) return SpectralSolves(cls.V[c], cls.e[c], r, lj);
   const Eigen::VectorXd& e = cls.e[c];

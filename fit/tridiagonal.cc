@@ -6,7 +6,9 @@
 
 namespace brdfshot {
 namespace {
-double PivotFloor(const Eigen::VectorXd& d) { return 1e-13 * std::max(d.size() ? d.cwiseAbs().maxCoeff() : 0.0, 1e-300); }
+double PivotFloor(const Eigen::VectorXd& d) {
+  return 1e-13 * std::max(d.size() ? d.cwiseAbs().maxCoeff() : 0.0, 1e-300);
+}
 }  // namespace
 
 Eigen::MatrixXd TridiagonalSolves(const Eigen::VectorXd& d, const Eigen::VectorXd& e, const Eigen::VectorXd& b,
@@ -39,8 +41,8 @@ Eigen::MatrixXd TridiagonalSolves(const Eigen::VectorXd& d, const Eigen::VectorX
 ShiftedTridiagonal::ShiftedTridiagonal(const Eigen::VectorXd& d, const Eigen::VectorXd& e, double lambda)
     : d_(d), e_(e), piv_(d.size()) {
   const Eigen::Index k = d.size();
-  BRDFSHOT_CHECK(e.size() == std::max<Eigen::Index>(k - 1, 0), "a tridiagonal matrix's off-diagonal has "
-                                                                     << e.size() << " entries for " << k << " rows");
+  BRDFSHOT_CHECK(e.size() == std::max<Eigen::Index>(k - 1, 0),
+                 "a tridiagonal matrix's off-diagonal has " << e.size() << " entries for " << k << " rows");
   const double floor = PivotFloor(d);
   for (Eigen::Index i = 0; i < k && ok_; ++i) {
     piv_[i] = d[i] + lambda - (i > 0 ? e[i - 1] * e[i - 1] / piv_[i - 1] : 0.0);
